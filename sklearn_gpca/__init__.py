@@ -1,0 +1,17 @@
+"""Motion segmentation with missing data: PowerFactorization and GPCA.
+
+scikit-learn compatible estimators implementing and extending Vidal & Hartley,
+"Motion Segmentation with Missing Data using PowerFactorization and GPCA"
+(CVPR 2004).
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+from sklearn_gpca._power_factorization import PowerFactorization
+
+__version__ = "0.1.0.dev0"
+
+__all__ = [
+    "PowerFactorization",
+    "__version__",
+]
