@@ -7,8 +7,11 @@ scikit-learn compatible estimators implementing and extending Vidal & Hartley,
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+from sklearn_gpca._power_factorization import PowerFactorization
+
 __version__ = "0.1.0.dev0"
 
 __all__ = [
+    "PowerFactorization",
     "__version__",
 ]

@@ -1,0 +1,327 @@
+"""PowerFactorization: project trajectories with missing entries to R^r."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import warnings
+from numbers import Integral, Real
+
+import numpy as np
+from sklearn.base import (
+    BaseEstimator,
+    ClassNamePrefixFeaturesOutMixin,
+    TransformerMixin,
+    _fit_context,
+)
+from sklearn.exceptions import ConvergenceWarning
+from sklearn.utils import check_array, check_random_state
+from sklearn.utils._param_validation import Interval
+from sklearn.utils.extmath import svd_flip
+from sklearn.utils.validation import check_is_fitted, validate_data
+
+from sklearn_gpca._als import power_factorization
+from sklearn_gpca._least_squares import fit_rows
+from sklearn_gpca._missing import describe_indices, masked_to_nan
+
+
+class PowerFactorization(
+    ClassNamePrefixFeaturesOutMixin, TransformerMixin, BaseEstimator
+):
+    """Rank-r factorisation of trajectories with missing entries.
+
+    Fits ``X ~ Z diag(s) V`` minimising the squared error over the observed
+    entries of ``X`` (equation (8) of Vidal & Hartley, 2004) with the
+    PowerFactorization iteration, and projects trajectories (rows of ``X``,
+    possibly incomplete, possibly new) to their ``n_components`` coordinates
+    ``Z``. With complete data the fitted subspace is the truncated SVD's.
+
+    The data are never centred: motion subspaces are linear subspaces through
+    the origin.
+
+    Parameters
+    ----------
+    n_components : int, default=5
+        Rank ``r`` of the factorisation, the dimension of the projected
+        space. The paper uses 5: each rigid motion spans at most 4
+        dimensions, and a generic projection to 5 keeps them apart.
+
+    whiten : bool, default=True
+        If True, coordinates are those of the paper's projected matrix
+        ``\\hat W``: the rows of ``V`` in the SVD ``X^T = U D V^T``, that is
+        ``X`` projected on the components and divided by the singular
+        values. If False, they are the plain projections on the components
+        (in the units of ``X``).
+
+    max_iter : int, default=500
+        Maximum number of alternations.
+
+    tol : float, default=1e-7
+        Stop when the squared residual over the observed entries decreases
+        by less than ``tol`` times its value in one iteration.
+
+    random_state : int, RandomState instance or None, default=None
+        Seed of the random starting basis.
+
+    verbose : int, default=0
+        Print the residual at every iteration when positive.
+
+    Attributes
+    ----------
+    components_ : ndarray of shape (n_components, n_features)
+        Orthonormal basis of the fitted subspace of ``R^{n_features}``,
+        ordered by decreasing singular value.
+
+    singular_values_ : ndarray of shape (n_components,)
+        Singular values of the fitted rank-r matrix.
+
+    n_iter_ : int
+        Number of alternations run.
+
+    reconstruction_err_ : float
+        Root mean square residual over the observed entries of the training
+        data, in the units of ``X``.
+
+    n_features_in_ : int
+        Number of features seen during :term:`fit`.
+
+    feature_names_in_ : ndarray of shape (`n_features_in_`,)
+        Names of features seen during :term:`fit`. Defined only when `X`
+        has feature names that are all strings.
+
+    See Also
+    --------
+    sklearn.decomposition.PCA : Projection of complete, centred data.
+    sklearn.decomposition.TruncatedSVD : Projection of complete data.
+    sklearn.impute.IterativeImputer : Imputation of missing entries.
+
+    Notes
+    -----
+    With ``W = X^T`` the ``2F x P`` measurement matrix of the paper, the
+    iteration alternates (1) the least-squares ``B`` given ``A`` over the
+    observed entries, one small ``r x r`` system per trajectory, (2) the
+    orthonormalisation of ``B``, (3) the least-squares ``A`` given ``B``, one
+    system per feature. All systems are solved in one batched call, so a
+    step costs ``O(P F r^2)``. With complete data (1) and (3) reduce to the
+    products ``W^T A`` and ``W B`` of the power method, which converges to the
+    best rank-r approximation at rate ``(s_{r+1} / s_r)^k``.
+
+    ``transform`` solves the same per-row least-squares problem against the
+    fitted basis, so training and new trajectories are projected alike.
+
+    References
+    ----------
+    R. Vidal and R. Hartley, "Motion Segmentation with Missing Data using
+    PowerFactorization and GPCA", CVPR 2004.
+
+    R. Hartley and F. Schaffalitzky, "PowerFactorization: 3D reconstruction
+    with missing or uncertain data", Australia-Japan Advanced Workshop on
+    Computer Vision, 2003.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca import PowerFactorization
+    >>> rng = np.random.RandomState(0)
+    >>> X = rng.standard_normal((100, 3)) @ rng.standard_normal((3, 20))
+    >>> X[rng.rand(*X.shape) < 0.2] = np.nan
+    >>> pf = PowerFactorization(n_components=3, random_state=0)
+    >>> Z = pf.fit_transform(X)
+    >>> Z.shape
+    (100, 3)
+    >>> bool(np.nanmax(np.abs(pf.inverse_transform(Z) - X)) < 1e-6)
+    True
+    """
+
+    _parameter_constraints: dict = {
+        "n_components": [Interval(Integral, 1, None, closed="left")],
+        "whiten": ["boolean"],
+        "max_iter": [Interval(Integral, 1, None, closed="left")],
+        "tol": [Interval(Real, 0, None, closed="left")],
+        "random_state": ["random_state"],
+        "verbose": ["verbose"],
+    }
+
+    def __init__(
+        self,
+        n_components=5,
+        *,
+        whiten=True,
+        max_iter=500,
+        tol=1e-7,
+        random_state=None,
+        verbose=0,
+    ):
+        self.n_components = n_components
+        self.whiten = whiten
+        self.max_iter = max_iter
+        self.tol = tol
+        self.random_state = random_state
+        self.verbose = verbose
+
+    @_fit_context(prefer_skip_nested_validation=True)
+    def fit(self, X, y=None):
+        """Fit the rank-r subspace to the observed entries of ``X``.
+
+        Parameters
+        ----------
+        X : array-like or masked array of shape (n_samples, n_features)
+            Trajectories, one per row; missing entries are NaN (or masked).
+
+        y : Ignored
+            Not used, present for API consistency by convention.
+
+        Returns
+        -------
+        self : object
+            Fitted estimator.
+        """
+        X = validate_data(
+            self,
+            masked_to_nan(X),
+            dtype=[np.float64, np.float32],
+            ensure_all_finite="allow-nan",
+        )
+        n_samples, n_features = X.shape
+        if self.n_components > n_features:
+            raise ValueError(
+                f"n_components={self.n_components} must be at most "
+                f"n_features={n_features}."
+            )
+        if self.n_components > n_samples:
+            raise ValueError(
+                f"n_components={self.n_components} must be at most "
+                f"n_samples={n_samples}."
+            )
+        X0, mask = _zero_filled(X)
+        if mask is not None:
+            self._check_observed(mask, axis=1, what="row")
+            self._check_observed(mask, axis=0, what="column")
+
+        B, A, self.n_iter_, converged = power_factorization(
+            X0,
+            mask,
+            self.n_components,
+            max_iter=self.max_iter,
+            tol=self.tol,
+            random_state=check_random_state(self.random_state),
+            log=self._log,
+        )
+        if not converged:
+            warnings.warn(
+                f"PowerFactorization did not converge in max_iter={self.max_iter}"
+                " iterations; increase max_iter or tol.",
+                ConvergenceWarning,
+                stacklevel=2,
+            )
+        residual = X0 - B @ A.T
+        n_observed = X0.size if mask is None else mask.sum()
+        if mask is not None:
+            residual *= mask
+        self.reconstruction_err_ = float(np.sqrt(np.sum(residual**2) / n_observed))
+
+        # B has orthonormal columns, so the SVD of the fit B A^T is B u s vt
+        # with u s vt the SVD of the small r x n_features matrix A^T.
+        u, s, vt = np.linalg.svd(A.T, full_matrices=False)
+        u, vt = svd_flip(u, vt, u_based_decision=False)
+        self.components_ = vt.astype(X.dtype, copy=False)
+        self.singular_values_ = s.astype(X.dtype, copy=False)
+        return self
+
+    def transform(self, X):
+        """Project trajectories, complete or not, to the fitted subspace.
+
+        Parameters
+        ----------
+        X : array-like or masked array of shape (n_samples, n_features)
+            Trajectories, one per row; missing entries are NaN (or masked).
+            Each row needs at least ``n_components`` observed entries.
+
+        Returns
+        -------
+        Z : ndarray of shape (n_samples, n_components)
+            Least-squares coordinates of each row over its observed entries.
+        """
+        check_is_fitted(self)
+        X = validate_data(
+            self,
+            masked_to_nan(X),
+            dtype=[np.float64, np.float32],
+            ensure_all_finite="allow-nan",
+            reset=False,
+        )
+        X0, mask = _zero_filled(X)
+        if mask is not None:
+            self._check_observed(mask, axis=1, what="row")
+        basis = self._basis().astype(np.float64)
+        return fit_rows(X0, mask, basis).astype(X.dtype, copy=False)
+
+    def inverse_transform(self, X):
+        """Complete trajectories from their coordinates.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_samples, n_components)
+            Coordinates, as returned by :meth:`transform`.
+
+        Returns
+        -------
+        X_completed : ndarray of shape (n_samples, n_features)
+            The rank-r reconstruction of every entry, observed or missing.
+        """
+        check_is_fitted(self)
+        X = _check_coordinates(X, self.n_components)
+        return X @ self._basis().astype(X.dtype, copy=False)
+
+    @property
+    def _n_features_out(self):
+        return self.components_.shape[0]
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True
+        tags.transformer_tags.preserves_dtype = ["float64", "float32"]
+        return tags
+
+    def _basis(self):
+        """Rows map coordinates to trajectories: ``X ~ Z @ basis``."""
+        if self.whiten:
+            return self.singular_values_[:, None] * self.components_
+        return self.components_
+
+    def _check_observed(self, mask, *, axis, what):
+        counts = mask.sum(axis=axis)
+        short = np.flatnonzero(counts < self.n_components)
+        if short.size:
+            empty = np.count_nonzero(counts[short] == 0)
+            raise ValueError(
+                f"Every {what} needs at least n_components={self.n_components} "
+                f"observed entries to determine its coordinates; "
+                f"{describe_indices(short)} {what}s have fewer ({empty} of them "
+                f"have none). Remove them or lower n_components."
+            )
+
+    def _log(self, message):
+        if self.verbose:
+            print(f"[PowerFactorization] {message}")
+
+
+def _zero_filled(X):
+    """Return ``X`` in float64 with NaN set to 0, and the observed mask.
+
+    The mask is None when nothing is missing, which selects the fast
+    complete-data route.
+    """
+    missing = np.isnan(X)
+    X0 = np.where(missing, 0.0, X).astype(np.float64, copy=False)
+    if not missing.any():
+        return X0, None
+    return X0, (~missing).astype(np.float64)
+
+
+def _check_coordinates(Z, n_components):
+    Z = check_array(Z, dtype=[np.float64, np.float32])
+    if Z.shape[1] != n_components:
+        raise ValueError(
+            f"X has {Z.shape[1]} features, but PowerFactorization.inverse_transform "
+            f"expects n_components={n_components} coordinates per row."
+        )
+    return Z
