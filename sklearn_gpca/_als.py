@@ -11,10 +11,18 @@ import numpy as np
 from sklearn_gpca._least_squares import fit_rows
 
 
-def _squared_residual(X0, mask, B, A):
+def squared_residual(X0, mask, B, A, total):
+    """Squared residual of ``X0 ~ B A^T`` over the observed entries.
+
+    ``total`` is the squared norm of ``X0``. With complete data, ``B`` with
+    orthonormal columns and ``A = X0^T B``, the residual is
+    ``total - ||A||^2`` (Pythagoras), which avoids an n_samples x n_features
+    temporary.
+    """
+    if mask is None:
+        return max(total - np.einsum("ij,ij->", A, A), 0.0)
     residual = X0 - B @ A.T
-    if mask is not None:
-        residual *= mask
+    residual *= mask
     return np.einsum("ij,ij->", residual, residual)
 
 
@@ -63,7 +71,7 @@ def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, 
             A = X0.T @ B
         else:
             A = fit_rows(X0.T, mask.T, B.T)
-        current = _squared_residual(X0, mask, B, A)
+        current = squared_residual(X0, mask, B, A, total)
         log(f"iteration {n_iter}, squared residual {current:.6g}")
         stalled = n_iter > 1 and previous - current <= tol * previous
         if stalled or current <= 1e-28 * total:

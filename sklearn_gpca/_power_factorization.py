@@ -18,7 +18,7 @@ from sklearn.utils._param_validation import Interval
 from sklearn.utils.extmath import svd_flip
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-from sklearn_gpca._als import power_factorization
+from sklearn_gpca._als import power_factorization, squared_residual
 from sklearn_gpca._least_squares import fit_rows
 from sklearn_gpca._missing import describe_indices, masked_to_nan
 
@@ -212,11 +212,10 @@ class PowerFactorization(
                 ConvergenceWarning,
                 stacklevel=2,
             )
-        residual = X0 - B @ A.T
         n_observed = X0.size if mask is None else mask.sum()
-        if mask is not None:
-            residual *= mask
-        self.reconstruction_err_ = float(np.sqrt(np.sum(residual**2) / n_observed))
+        total = np.einsum("ij,ij->", X0, X0)
+        residual = squared_residual(X0, mask, B, A, total)
+        self.reconstruction_err_ = float(np.sqrt(residual / n_observed))
 
         # B has orthonormal columns, so the SVD of the fit B A^T is B u s vt
         # with u s vt the SVD of the small r x n_features matrix A^T.
@@ -310,11 +309,11 @@ def _zero_filled(X):
     The mask is None when nothing is missing, which selects the fast
     complete-data route.
     """
-    missing = np.isnan(X)
-    X0 = np.where(missing, 0.0, X).astype(np.float64, copy=False)
+    X0 = X.astype(np.float64, copy=False)
+    missing = np.isnan(X0)
     if not missing.any():
         return X0, None
-    return X0, (~missing).astype(np.float64)
+    return np.where(missing, 0.0, X0), (~missing).astype(np.float64)
 
 
 def _check_coordinates(Z, n_components):
