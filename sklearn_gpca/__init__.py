@@ -7,6 +7,7 @@ scikit-learn compatible estimators implementing and extending Vidal & Hartley,
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+from sklearn_gpca._motion import estimate_motions
 from sklearn_gpca._power_factorization import PowerFactorization
 
 __version__ = "0.1.0.dev0"
@@ -14,4 +15,5 @@ __version__ = "0.1.0.dev0"
 __all__ = [
     "PowerFactorization",
     "__version__",
+    "estimate_motions",
 ]
