@@ -1,0 +1,88 @@
+"""Tests for low-rank spectral clustering."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+from sklearn.cluster import SpectralClustering
+from sklearn.metrics import adjusted_rand_score
+
+from sklearn_gpca._spectral import (
+    normal_subspace_features,
+    spectral_clustering_dense,
+    spectral_clustering_lowrank,
+    spectral_embedding_dense,
+    spectral_embedding_lowrank,
+)
+
+
+def _noisy_normals(n_features, n_clusters, n_per_cluster, noise, seed):
+    rng = np.random.RandomState(seed)
+    centres = rng.randn(n_clusters, n_features)
+    normals = np.repeat(centres, n_per_cluster, axis=0)
+    normals += noise * rng.randn(*normals.shape)
+    normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    return normals, np.repeat(np.arange(n_clusters), n_per_cluster)
+
+
+@pytest.mark.parametrize("n_features", [2, 3, 5])
+def test_features_give_squared_cosines(n_features):
+    normals, _ = _noisy_normals(n_features, 3, 5, 0.3, seed=0)
+    phi = normal_subspace_features(normals)
+    assert phi.shape == (15, n_features * (n_features + 1) // 2)
+    assert_allclose(phi @ phi.T, (normals @ normals.T) ** 2, atol=1e-12)
+
+
+def test_features_of_bases_give_projector_traces():
+    rng = np.random.RandomState(1)
+    bases = np.stack([np.linalg.qr(rng.randn(5, 2))[0] for _ in range(6)])
+    projectors = np.einsum("pij,pkj->pik", bases, bases)
+    phi = normal_subspace_features(bases)
+    expected = np.einsum("pij,qji->pq", projectors, projectors)
+    assert_allclose(phi @ phi.T, expected, atol=1e-12)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_lowrank_matches_dense_route(seed):
+    normals, _ = _noisy_normals(5, 3, 30, 0.4, seed=seed)
+    phi = normal_subspace_features(normals)
+    affinity = phi @ phi.T
+    # the embeddings span the same space (up to a rotation of the columns)
+    low = spectral_embedding_lowrank(phi, 3)
+    dense = spectral_embedding_dense(affinity, 3)
+    assert_allclose(low @ low.T, dense @ dense.T, atol=1e-8)
+    labels_low = spectral_clustering_lowrank(phi, 3, random_state=0)
+    labels_dense = spectral_clustering_dense(affinity, 3, random_state=0)
+    assert adjusted_rand_score(labels_low, labels_dense) == 1.0
+
+
+def test_agrees_with_sklearn_spectral_clustering():
+    normals, truth = _noisy_normals(4, 3, 40, 0.05, seed=3)
+    phi = normal_subspace_features(normals)
+    labels = spectral_clustering_lowrank(phi, 3, random_state=0)
+    reference = SpectralClustering(
+        n_clusters=3, affinity="precomputed", random_state=0
+    ).fit_predict(phi @ phi.T)
+    assert adjusted_rand_score(labels, reference) == 1.0
+    assert adjusted_rand_score(labels, truth) == 1.0
+
+
+def test_single_cluster_and_isolated_points():
+    normals, _ = _noisy_normals(3, 2, 5, 0.1, seed=4)
+    phi = normal_subspace_features(normals)
+    assert np.all(spectral_clustering_lowrank(phi, 1) == 0)
+    phi[0] = 0.0  # zero degree: embedded at the origin, still labelled
+    embedding = spectral_embedding_lowrank(phi, 2)
+    assert np.all(np.isfinite(embedding))
+    assert_allclose(embedding[0], 0.0)
+
+
+def test_more_clusters_than_rank():
+    # K=2 gives a rank-3 affinity; asking for 4 clusters keeps 3 eigenvectors
+    angles = np.repeat(np.linspace(0, np.pi, 4, endpoint=False), 5)
+    normals = np.column_stack([np.cos(angles), np.sin(angles)])
+    phi = normal_subspace_features(normals)
+    assert spectral_embedding_lowrank(phi, 4).shape == (20, 3)
+    labels = spectral_clustering_lowrank(phi, 4, random_state=0)
+    assert adjusted_rand_score(labels, np.repeat(np.arange(4), 5)) == 1.0
