@@ -9,11 +9,17 @@ scikit-learn compatible estimators implementing and extending Vidal & Hartley,
 
 from sklearn_gpca._motion import estimate_motions
 from sklearn_gpca._power_factorization import PowerFactorization
+from sklearn_gpca._shape_interaction import (
+    ShapeInteractionClustering,
+    shape_interaction_matrix,
+)
 
 __version__ = "0.1.0.dev0"
 
 __all__ = [
     "PowerFactorization",
+    "ShapeInteractionClustering",
     "__version__",
     "estimate_motions",
+    "shape_interaction_matrix",
 ]
