@@ -1,0 +1,208 @@
+"""Tests for the synthetic generators make_motions and make_transparent."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose, assert_array_equal
+
+from sklearn_gpca.datasets import make_motions, make_transparent
+from sklearn_gpca.datasets._motions import MIN_FRAMES_PER_TRACK, MIN_POINTS_PER_FRAME
+
+
+def numerical_rank(A, rtol=1e-9):
+    s = np.linalg.svd(A, compute_uv=False)
+    return int(np.sum(s > rtol * s[0]))
+
+
+def observed_frames(X):
+    return ~np.isnan(X[:, 0::2])
+
+
+@pytest.mark.parametrize("n_motions", [1, 2, 3])
+@pytest.mark.parametrize("n_frames", [3, 10])
+def test_shapes_and_labels(n_motions, n_frames):
+    X, y = make_motions(n_motions, 61, n_frames, n_outliers=4, random_state=0)
+    assert X.shape == (65, 2 * n_frames)
+    assert X.dtype == np.float64
+    assert y.shape == (65,)
+    assert np.issubdtype(y.dtype, np.integer)
+    assert_array_equal(np.unique(y), np.arange(-1, n_motions))
+    sizes = np.bincount(y[y >= 0])
+    assert sizes.sum() == 61
+    assert sizes.max() - sizes.min() <= 1
+    assert np.sum(y == -1) == 4
+    assert np.all(np.isfinite(X))
+    # Pixel-like coordinates in (roughly) a 640 x 480 image.
+    assert X[:, 0::2].min() > -100 and X[:, 0::2].max() < 740
+    assert X[:, 1::2].min() > -100 and X[:, 1::2].max() < 580
+
+
+def test_points_per_motion_sequence():
+    _, y = make_motions(3, [10, 20, 30], 5, shuffle=False, random_state=0)
+    assert_array_equal(y, np.repeat([0, 1, 2], [10, 20, 30]))
+
+
+@pytest.mark.parametrize(
+    ("motion_type", "rank"), [("full", 4), ("planar", 3), ("linear", 2)]
+)
+@pytest.mark.parametrize("n_frames", [3, 8])
+def test_subspace_dimensions(motion_type, rank, n_frames):
+    X, y = make_motions(
+        3, 90, n_frames, noise=0.0, motion_types=motion_type, random_state=1
+    )
+    for k in range(3):
+        assert numerical_rank(X[y == k]) == rank
+
+
+def test_mixed_motion_types():
+    X, y = make_motions(
+        3,
+        90,
+        10,
+        noise=0.0,
+        motion_types=["linear", "full", "planar"],
+        random_state=2,
+    )
+    assert [numerical_rank(X[y == k]) for k in range(3)] == [2, 4, 3]
+    assert numerical_rank(X) == 9  # independent: 2 + 4 + 3 <= 2F = 20
+
+
+@pytest.mark.parametrize(
+    ("dependent", "union_rank"), [(None, 8), ("rotation", 5), ("translation", 7)]
+)
+def test_dependent_motions(dependent, union_rank):
+    X, y = make_motions(2, 100, 10, noise=0.0, dependent=dependent, random_state=3)
+    ranks = [numerical_rank(X[y == k]) for k in range(2)]
+    assert ranks == [4, 4]
+    assert numerical_rank(X) == union_rank
+    # Partially, not fully, dependent (paper eq. (7)).
+    assert numerical_rank(X) > max(ranks)
+
+
+def test_noise_level():
+    kwargs = dict(n_motions=2, n_points=200, n_frames=6, random_state=4)
+    X0, _ = make_motions(noise=0.0, **kwargs)
+    X1, _ = make_motions(noise=2.0, **kwargs)
+    assert_allclose(np.std(X1 - X0), 2.0, rtol=0.05)
+
+
+@pytest.mark.parametrize("pattern", ["random", "occlusion"])
+@pytest.mark.parametrize(
+    ("n_points", "n_frames", "missing"),
+    [(100, 10, 0.3), (60, 3, 0.0), (200, 30, 0.8), (12, 10, 0.5), (50, 4, 0.25)],
+)
+def test_missing_patterns(pattern, n_points, n_frames, missing):
+    X, _, X_complete = make_motions(
+        2,
+        n_points,
+        n_frames,
+        missing=missing,
+        missing_pattern=pattern,
+        n_outliers=3,
+        return_complete=True,
+        random_state=5,
+    )
+    n_samples = n_points + 3
+    nan = np.isnan(X)
+    # x and y of a frame go missing together.
+    assert_array_equal(nan[:, 0::2], nan[:, 1::2])
+    assert np.all(np.isfinite(X_complete))
+    assert_array_equal(X[~nan], X_complete[~nan])
+    expected = round(missing * n_samples * n_frames) / (n_samples * n_frames)
+    assert nan.mean() == pytest.approx(expected, abs=1e-12)
+    observed = observed_frames(X)
+    assert observed.sum(axis=1).min() >= MIN_FRAMES_PER_TRACK
+    assert observed.sum(axis=0).min() >= min(MIN_POINTS_PER_FRAME, n_samples)
+    if pattern == "occlusion":
+        # One contiguous visibility window per track.
+        starts = np.diff(np.pad(observed.astype(int), ((0, 0), (1, 1))), axis=1) == 1
+        assert_array_equal(starts.sum(axis=1), 1)
+
+
+def test_random_pattern_is_not_banded():
+    X, _ = make_motions(2, 300, 20, missing=0.5, random_state=6)
+    observed = observed_frames(X)
+    starts = np.diff(np.pad(observed.astype(int), ((0, 0), (1, 1))), axis=1) == 1
+    assert starts.sum(axis=1).mean() > 2
+
+
+@pytest.mark.parametrize("pattern", ["random", "occlusion"])
+def test_too_much_missing_data(pattern):
+    with pytest.raises(ValueError, match="fewer than the 90 needed"):
+        make_motions(2, 30, 3, missing=0.1, missing_pattern=pattern)
+
+
+def test_outliers_are_off_subspace():
+    X, y = make_motions(2, 100, 10, noise=0.0, n_outliers=5, random_state=7)
+    assert numerical_rank(X[y >= 0]) == 8
+    assert numerical_rank(X) == 13
+
+
+def test_determinism_and_shuffle():
+    kwargs = dict(missing=0.2, n_outliers=2)
+    X1, y1 = make_motions(random_state=8, **kwargs)
+    X2, y2 = make_motions(random_state=np.random.RandomState(8), **kwargs)
+    assert_array_equal(X1, X2)
+    assert_array_equal(y1, y2)
+    X3, _ = make_motions(random_state=9, **kwargs)
+    assert not np.array_equal(np.isnan(X1), np.isnan(X3))
+    _, y_sorted = make_motions(shuffle=False, random_state=8, **kwargs)
+    assert_array_equal(y_sorted, np.sort(y_sorted)[np.r_[2:102, 0:2]])
+    assert not np.array_equal(y1, y_sorted)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        (dict(n_motions=0), "n_motions"),
+        (dict(n_frames=2), "n_frames"),
+        (dict(noise=-1.0), "noise"),
+        (dict(missing=1.0), "missing"),
+        (dict(missing_pattern="banded"), "missing_pattern"),
+        (dict(dependent="scale"), "dependent"),
+        (dict(n_outliers=-1), "n_outliers"),
+        (dict(motion_types="cubic"), "motion_types"),
+        (dict(motion_types=["full"]), "sequence of n_motions=2"),
+        (dict(n_points=[10, 0]), "positive ints"),
+        (dict(n_points=[10, 10, 10]), "positive ints"),
+        (dict(n_motions=3, n_points=2), "smaller than n_motions=3"),
+        (dict(random_state="seed"), "random_state"),
+    ],
+)
+def test_invalid_arguments(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        make_motions(**kwargs)
+
+
+def test_make_transparent():
+    X, y = make_motions(2, 40, 5, missing=0.2, random_state=10)
+    X2, y2 = make_transparent(X, y)
+    assert X2.shape == (80, 10)
+    assert_array_equal(X2[:40], X)
+    assert_array_equal(X2[40:, 0::2], X[:, 1::2])
+    assert_array_equal(X2[40:, 1::2], X[:, 0::2])
+    assert_array_equal(y2, np.concatenate([y, y + 2]))
+
+
+def test_make_transparent_static_scene_and_outliers():
+    X, _ = make_motions(1, 30, 4, noise=0.0, random_state=11)
+    X2, y2 = make_transparent(X)
+    assert_array_equal(y2, np.repeat([0, 1], 30))
+    # The swapped copy is a different 4-D subspace: together 8 dimensions.
+    assert numerical_rank(X2) == 8
+    _, y3 = make_transparent(np.zeros((3, 4)), [0, -1, 1])
+    assert_array_equal(y3, [0, -1, 1, 2, -1, 3])
+
+
+@pytest.mark.parametrize(
+    ("X", "y", "match"),
+    [
+        (np.zeros((3, 5)), None, "even number of features"),
+        (np.zeros((3, 4)), [0, 1], "inconsistent numbers of samples"),
+        (np.zeros((3, 4)), [0.5, 1, 2], "integer labels"),
+    ],
+)
+def test_make_transparent_errors(X, y, match):
+    with pytest.raises(ValueError, match=match):
+        make_transparent(X, y)
