@@ -2,9 +2,19 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+from sklearn_gpca.datasets._hopkins155 import (
+    fetch_hopkins155,
+    hopkins155_category,
+    load_hopkins155,
+)
+from sklearn_gpca.datasets._lowrank import load_lowrank
 from sklearn_gpca.datasets._motions import make_motions, make_transparent
 
 __all__ = [
+    "fetch_hopkins155",
+    "hopkins155_category",
+    "load_hopkins155",
+    "load_lowrank",
     "make_motions",
     "make_transparent",
 ]
