@@ -143,6 +143,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     For degenerate (lower-dimensional) or dependent subspaces (section 2.2.4)
     the single polynomial picks one hyperplane containing each subspace; the
     segmentation succeeds as long as that hyperplane differs from the others.
+    With two or more lower-dimensional subspaces the vanishing polynomials form
+    a space of dimension greater than one and the gradient of a single one of
+    them varies along each subspace, so the segmentation degrades (e.g. two
+    2-D planes in ``R^5``); several polynomials are needed then (section 2.2.4,
+    "Modelling low-dimension subspaces").
     Points whose gradient vanishes, e.g. on the intersection of two subspaces,
     carry no normal information and are labelled arbitrarily.
 
