@@ -231,7 +231,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
                 "rows. The origin lies on every linear subspace: these rows are "
                 "left out of the fit, get label 0 and a zero point normal.",
                 UserWarning,
-                stacklevel=3,
+                stacklevel=4,
             )
         return nonzero
 
