@@ -7,7 +7,9 @@ scikit-learn compatible estimators implementing and extending Vidal & Hartley,
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+from sklearn_gpca._gpca import GPCAClustering
 from sklearn_gpca._motion import estimate_motions
+from sklearn_gpca._pipeline import paper_pipeline
 from sklearn_gpca._power_factorization import PowerFactorization
 from sklearn_gpca._shape_interaction import (
     ShapeInteractionClustering,
@@ -17,9 +19,11 @@ from sklearn_gpca._shape_interaction import (
 __version__ = "0.1.0.dev0"
 
 __all__ = [
+    "GPCAClustering",
     "PowerFactorization",
     "ShapeInteractionClustering",
     "__version__",
     "estimate_motions",
+    "paper_pipeline",
     "shape_interaction_matrix",
 ]
