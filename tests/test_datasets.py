@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
-from sklearn_gpca.datasets import make_motions, make_transparent
-from sklearn_gpca.datasets._motions import MIN_FRAMES_PER_TRACK, MIN_POINTS_PER_FRAME
+from sklearn_gpca.datasets import make_missing, make_motions, make_transparent
+from sklearn_gpca.datasets._missing import MIN_FRAMES_PER_TRACK, MIN_POINTS_PER_FRAME
 
 
 def numerical_rank(A, rtol=1e-9):
@@ -206,3 +206,27 @@ def test_make_transparent_static_scene_and_outliers():
 def test_make_transparent_errors(X, y, match):
     with pytest.raises(ValueError, match=match):
         make_transparent(X, y)
+
+
+@pytest.mark.parametrize("pattern", ["random", "occlusion"])
+@pytest.mark.parametrize("missing", [0.1, 0.3, 0.5])
+def test_make_missing_on_given_trajectories(pattern, missing):
+    X = np.arange(200 * 30, dtype=float).reshape(200, 30)
+    X_missing = make_missing(X, missing, pattern=pattern, random_state=0)
+    observed = ~np.isnan(X_missing[:, ::2])
+    assert_array_equal(np.isnan(X_missing[:, ::2]), np.isnan(X_missing[:, 1::2]))
+    assert abs(1 - observed.mean() - missing) < 1e-9
+    assert observed.sum(axis=1).min() >= MIN_FRAMES_PER_TRACK
+    assert observed.sum(axis=0).min() >= MIN_POINTS_PER_FRAME
+    assert_array_equal(X_missing[observed.repeat(2, axis=1)], X[observed.repeat(2, 1)])
+    if pattern == "occlusion":
+        steps = np.diff(observed.astype(int), axis=1)
+        assert ((steps == 1).sum(axis=1) <= 1).all()
+        assert ((steps == -1).sum(axis=1) <= 1).all()
+
+
+def test_make_missing_errors():
+    with pytest.raises(ValueError, match="X has 5 columns; trajectories need an even"):
+        make_missing(np.ones((10, 5)))
+    with pytest.raises(ValueError, match=r"missing=0.9 leaves .* fewer than the"):
+        make_missing(np.ones((10, 20)), 0.9)

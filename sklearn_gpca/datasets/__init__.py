@@ -8,6 +8,7 @@ from sklearn_gpca.datasets._hopkins155 import (
     load_hopkins155,
 )
 from sklearn_gpca.datasets._lowrank import load_lowrank
+from sklearn_gpca.datasets._missing import make_missing
 from sklearn_gpca.datasets._motions import make_motions, make_transparent
 
 __all__ = [
@@ -15,6 +16,7 @@ __all__ = [
     "hopkins155_category",
     "load_hopkins155",
     "load_lowrank",
+    "make_missing",
     "make_motions",
     "make_transparent",
 ]

@@ -17,15 +17,9 @@ from sklearn.utils import check_array, check_random_state, column_or_1d
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 from sklearn.utils.validation import check_consistent_length
 
-#: Every track of :func:`make_motions` keeps at least this many observed
-#: frames, i.e. 6 observed entries, enough to determine its coordinates in a
-#: rank-5 factorisation (PowerFactorization needs 5 observed entries per row).
-MIN_FRAMES_PER_TRACK = 3
-
-#: Every frame of :func:`make_motions` keeps at least this many observed
-#: points (or all of them when there are fewer), so that each of its two rows
-#: of the measurement matrix can be solved for in a rank-5 factorisation.
-MIN_POINTS_PER_FRAME = 5
+from sklearn_gpca.datasets._missing import (
+    _apply_missing,
+)
 
 _IMAGE_SIZE = (640.0, 480.0)
 _MOTION_DIMS = {"full": 4, "planar": 3, "linear": 2}
@@ -103,81 +97,6 @@ def _translations(n_frames, rng):
     accel[:, 2] = 0.0
     velocities = velocity + np.cumsum(accel, axis=0)
     return np.vstack([start, start + np.cumsum(velocities, axis=0)])
-
-
-def _random_observed(n_samples, n_frames, n_visible, min_points, rng):
-    """Observed (point, frame) cells: uniformly random beyond the guarantees."""
-    protected = np.zeros((n_samples, n_frames), dtype=bool)
-    # 3 protected frames per track, spread evenly over frames by dealing
-    # them from a stream of random permutations of the frames.
-    n_perms = -(-MIN_FRAMES_PER_TRACK * n_samples // n_frames) + 1
-    stream = np.concatenate([rng.permutation(n_frames) for _ in range(n_perms)])
-    for p in range(n_samples):
-        frames = stream[MIN_FRAMES_PER_TRACK * p : MIN_FRAMES_PER_TRACK * (p + 1)]
-        protected[p, frames] = True
-        missing = MIN_FRAMES_PER_TRACK - protected[p].sum()
-        if missing:
-            free = np.flatnonzero(~protected[p])
-            protected[p, rng.choice(free, size=missing, replace=False)] = True
-    for f in np.flatnonzero(protected.sum(axis=0) < min_points):
-        need = min_points - protected[:, f].sum()
-        free = np.flatnonzero(~protected[:, f])
-        protected[rng.choice(free, size=need, replace=False), f] = True
-    n_extra = n_visible - protected.sum()
-    if n_extra < 0:
-        raise ValueError(
-            f"Too much missing data: {n_visible} observed point-frames requested "
-            f"but the guarantees ({MIN_FRAMES_PER_TRACK} frames per track, "
-            f"{min_points} points per frame) need {protected.sum()}."
-        )
-    free = np.flatnonzero(~protected.ravel())
-    observed = protected.ravel().copy()
-    observed[rng.choice(free, size=n_extra, replace=False)] = True
-    return observed.reshape(n_samples, n_frames)
-
-
-def _occlusion_observed(n_samples, n_frames, n_visible, min_points, rng):
-    """Each track visible on one contiguous window of frames."""
-    mean = n_visible / n_samples
-    spread = min(mean - MIN_FRAMES_PER_TRACK, n_frames - mean)
-    lengths = np.rint(rng.uniform(mean - spread, mean + spread, size=n_samples))
-    lengths = np.clip(lengths, MIN_FRAMES_PER_TRACK, n_frames).astype(int)
-    diff = n_visible - lengths.sum()
-    while diff != 0:
-        room = lengths < n_frames if diff > 0 else lengths > MIN_FRAMES_PER_TRACK
-        candidates = np.flatnonzero(room)
-        n_change = min(abs(diff), candidates.size)
-        chosen = rng.choice(candidates, size=n_change, replace=False)
-        lengths[chosen] += np.sign(diff)
-        diff = n_visible - lengths.sum()
-    starts = rng.randint(0, n_frames - lengths + 1)
-    frames = np.arange(n_frames)
-
-    def windows():
-        return (frames >= starts[:, None]) & (frames < (starts + lengths)[:, None])
-
-    observed = windows()
-    for _ in range(50 * n_frames):
-        counts = observed.sum(axis=0)
-        deficient = np.flatnonzero(counts < min_points)
-        if deficient.size == 0:
-            return observed
-        f = rng.choice(deficient)
-        # Prefer moving a track whose window only covers well-covered frames.
-        safe = np.all(np.where(observed, counts > min_points, True), axis=1)
-        candidates = np.flatnonzero(~observed[:, f] & safe)
-        if candidates.size == 0:
-            candidates = np.flatnonzero(~observed[:, f])
-        p = rng.choice(candidates)
-        low = max(0, f - lengths[p] + 1)
-        high = min(f, n_frames - lengths[p])
-        starts[p] = rng.randint(low, high + 1)
-        observed = windows()
-    raise ValueError(
-        "Could not place occlusion windows with at least "
-        f"{min_points} points in each of the {n_frames} frames; lower "
-        "`missing` or add points."
-    )
 
 
 @validate_params(
@@ -380,28 +299,10 @@ def make_motions(
     y = np.concatenate(labels).astype(np.intp)
     X_complete += rng.normal(scale=noise, size=X_complete.shape)
 
-    X = X_complete.copy()
-    n_samples = X.shape[0]
-    n_missing = round(missing * n_samples * n_frames)
-    if n_missing:
-        n_visible = n_samples * n_frames - n_missing
-        min_points = min(MIN_POINTS_PER_FRAME, n_samples)
-        required = max(MIN_FRAMES_PER_TRACK * n_samples, min_points * n_frames)
-        if n_visible < required:
-            raise ValueError(
-                f"missing={missing} leaves {n_visible} of {n_samples * n_frames} "
-                f"point-frames observed, fewer than the {required} needed to keep "
-                f"{MIN_FRAMES_PER_TRACK} frames per track and {min_points} points "
-                "per frame."
-            )
-        make_observed = (
-            _random_observed if missing_pattern == "random" else _occlusion_observed
-        )
-        observed = make_observed(n_samples, n_frames, n_visible, min_points, rng)
-        X[~np.repeat(observed, 2, axis=1)] = np.nan
+    X = _apply_missing(X_complete, missing, missing_pattern, rng)
 
     if shuffle:
-        order = rng.permutation(n_samples)
+        order = rng.permutation(X.shape[0])
         X, y, X_complete = X[order], y[order], X_complete[order]
     if return_complete:
         return X, y, X_complete
