@@ -10,16 +10,25 @@ between normals.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import warnings
-from numbers import Integral
+from numbers import Integral, Real
 
 import numpy as np
 from scipy.linalg import eigh
 from scipy.special import logsumexp
 from sklearn.base import BaseEstimator, ClusterMixin, _fit_context
+from sklearn.cluster import KMeans
+from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils import check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted, validate_data
 
+from sklearn_gpca._affinity import (
+    local_normal_bases,
+    normal_affinity_graph,
+    sign_invariant_neighbors,
+    spectral_embedding_sparse,
+)
+from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._spectral import (
     normal_subspace_features,
@@ -58,40 +67,93 @@ def _least_singular_vector(embedded):
     return vectors[:, 0]
 
 
-def _cluster_normals(point_normals, labels, n_clusters):
-    """Leading eigenvector of ``sum_i n_i n_i^T`` over each cluster."""
+def _cluster_normals(point_normals, labels, n_clusters, smallest=False):
+    """Leading (or, with ``smallest``, last) eigenvector of ``sum_i v_i v_i^T``.
+
+    Over the per-point normals ``v_i`` of each cluster its leading eigenvector
+    is the cluster's normal; over the points themselves the last one is.
+    """
     n_features = point_normals.shape[1]
     normals = np.zeros((n_clusters, n_features))
     for k in range(n_clusters):
         members = point_normals[labels == k]
         _, vectors = eigh(members.T @ members)
-        normals[k] = vectors[:, -1]
+        normals[k] = vectors[:, 0] if smallest else vectors[:, -1]
     return _canonical_sign(normals)
 
 
-class GPCAClustering(ClusterMixin, BaseEstimator):
-    """Segment points lying on a union of linear hyperplanes with GPCA.
+def _complement(normal):
+    """Orthonormal basis, as columns, of the hyperplane orthogonal to ``normal``."""
+    return np.linalg.svd(normal[None, :], full_matrices=True)[2][1:].T
 
-    Fits a single homogeneous polynomial of degree ``n_clusters`` that vanishes
-    on the data, takes its gradient at every point as the normal of the
-    hyperplane through that point, and clusters the points by spectral
-    clustering of the similarity ``S_ij = cos^2(theta_ij)`` between normals.
-    Subspaces of lower dimension (degenerate motions) are segmented through one
-    hyperplane that contains them. The subspaces pass through the origin: do
-    not centre or standardise the data first.
+
+class GPCAClustering(ClusterMixin, BaseEstimator):
+    """Segment points lying on a union of linear subspaces with GPCA.
+
+    By default (beyond the paper) the points are scaled to the unit sphere,
+    a hyperplane (or lower-dimensional subspace) is fitted to the nearest
+    neighbours of every point, the points are clustered spectrally on the
+    sparse nearest-neighbour graph weighted by a power of the squared cosine
+    between these local normals, and the segmentation is refined by K-subspaces
+    with a neighbourhood smoothing term. With ``normalize=False,
+    affinity="polynomial", n_neighbors=None, affinity_power=1, refine=False``
+    it is the paper's algorithm: one homogeneous polynomial of degree
+    ``n_clusters`` fitted to the Veronese-embedded points, its gradients as
+    normals, and spectral clustering of ``S_ij = cos^2(theta_ij)`` (see
+    :func:`sklearn_gpca.paper_pipeline`). The subspaces pass through the
+    origin: do not centre or standardise the data first.
 
     Parameters
     ----------
     n_clusters : int, default=2
         Number of subspaces ``n``, which is also the degree of the fitted
         polynomial.
+    normalize : bool, default=True
+        Scale every point to unit norm first. Subspaces are linear, so this
+        changes no subspace; it equalises the weight of the points in the
+        polynomial fit and in the K-subspaces fits. The paper uses ``False``.
+    affinity : {"local", "polynomial"}, default="local"
+        Where the per-point normals come from. ``"polynomial"``: the unit
+        gradient of the fitted polynomial (paper, section 2.2.3). ``"local"``:
+        the least singular directions of the point and its ``n_neighbors // 3``
+        nearest neighbours (sign-invariant angular distance); their number, the
+        local codimension, is estimated with ``rank_tol``.
+    n_neighbors : int or None, default=30
+        Size of the nearest-neighbour graph on which the affinity is evaluated
+        (``O(n_samples * n_neighbors)`` memory), clipped to ``n_samples - 1``.
+        ``None`` uses all pairs through the rank-``K(K+1)/2`` kernel
+        ``tr(P_i P_j)`` (paper); it requires ``affinity_power=1``. Its third
+        also sets the neighbourhoods of the local normals and of the smoothing.
+    affinity_power : int, default=4
+        Exponent ``q`` of the graph weights ``(tr(P_i P_j) / max(c_i, c_j))^q``,
+        i.e. ``cos^(2q)`` of the angle between normals for hyperplanes. The
+        paper uses ``q = 1``.
+    refine : bool, default=True
+        Refine the spectral labels by K-subspaces: alternately fit one subspace
+        per cluster and reassign the points. The paper uses ``False``.
+    smoothing : float, default=5.0
+        Weight ``lambda`` of the neighbourhood term in the K-subspaces
+        reassignment (0 gives plain K-subspaces). See Notes.
+    subspace_dim : int, "auto" or None, default=None
+        Dimension of the subspaces fitted by the refinement. ``None`` fits
+        hyperplanes (``n_features - 1``); ``"auto"`` estimates each cluster's
+        dimension with ``rank_tol``; an int is clipped to ``n_features - 1``.
+    rank_tol : float, default=0.05
+        Relative singular-value threshold for the estimated dimensions: a
+        cluster keeps the directions with ``s_l > rank_tol * s_1``; a local
+        neighbourhood counts the directions ``l >= 3`` with ``s_l <= rank_tol *
+        s_2`` as normal directions (the last one always is). 0 keeps
+        hyperplanes everywhere.
+    max_iter : int, default=50
+        Maximum number of K-subspaces rounds.
     assign_labels : {"kmeans"}, default="kmeans"
         How the spectral embedding is turned into labels: k-means on the
         row-normalised eigenvectors (Ng, Jordan & Weiss).
     n_init : int, default=10
         Number of k-means runs with different centroid seeds.
     random_state : int, RandomState instance or None, default=None
-        Seeds k-means. Pass an int for reproducible results.
+        Seeds the Lanczos start vector, k-means and the reseeding of emptied
+        clusters. Pass an int for reproducible results.
 
     Attributes
     ----------
@@ -99,12 +161,20 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Subspace label of each training point, in ``0 .. n_clusters - 1``;
         all-zero rows get 0.
     normals_ : ndarray of shape (n_clusters, n_features)
-        Unit normal of each fitted hyperplane: the leading eigenvector of
-        ``sum_i n_i n_i^T`` over the per-point normals of its members, signed so
-        that its largest-magnitude entry is positive.
+        Unit normal of each cluster, signed so that its largest-magnitude entry
+        is positive. With ``refine=True`` the least singular direction of the
+        cluster's (unit) points, i.e. the leading normal of a lower-dimensional
+        subspace; otherwise the leading eigenvector of ``sum_i n_i n_i^T`` over
+        the per-point normals of its members (paper).
+    subspace_bases_ : list of ndarray of shape (n_features, d_k)
+        Orthonormal basis (columns) of each fitted subspace; ``d_k =
+        n_features - 1`` for hyperplanes. ``predict`` and ``score`` use them.
     point_normals_ : ndarray of shape (n_samples, n_features)
-        Unit gradient ``Dp(w_i) / ||Dp(w_i)||`` at each training point; zero
-        for all-zero rows.
+        Unit normal at each training point: the gradient ``Dp(w_i) /
+        ||Dp(w_i)||`` for ``affinity="polynomial"``, the least singular
+        direction of its neighbourhood for ``"local"``; zero for all-zero rows.
+    n_iter_ : int
+        Number of K-subspaces rounds run (0 without refinement).
     coef_ : ndarray of shape (n_monomials,)
         Unit-norm coefficients ``c`` of the fitted polynomial
         ``p(w) = c^T nu_n(w)``, one per row of ``exponents_``.
@@ -151,6 +221,25 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     Points whose gradient vanishes, e.g. on the intersection of two subspaces,
     carry no normal information and are labelled arbitrarily.
 
+    Beyond the paper (defaults). With unit points ``x_i`` and ``N(i)`` the
+    ``k = n_neighbors`` nearest lines through the origin, the local normal
+    basis ``N_i`` (codimension ``c_i``) spans the least singular directions of
+    ``[x_i; x_j, j in N(i)[:k/3]]``. The graph weight of the edge ``(i, j)``,
+    ``j in N(i)``, is ``(tr(P_i P_j) / max(c_i, c_j))^q`` with ``P_i = N_i
+    N_i^T`` (``cos^(2q)`` between hyperplane normals), symmetrised by the
+    maximum; spectral clustering uses the leading ``n`` eigenvectors of ``D^{-1/2}
+    A D^{-1/2}`` (Lanczos on the sparse graph). The refinement minimises, by
+    iterated conditional modes,
+
+        sum_i r_{i,l_i} / sigma^2 + lambda * #{j in N(i)[:k/3] : l_j != l_i}
+
+    over the labels ``l``, where ``r_ik = 1 - ||U_k^T x_i||^2`` is the squared
+    sine distance to subspace ``k`` (basis ``U_k`` from the SVD of the
+    cluster's points) and ``sigma^2`` the median of ``r_{i,l_i}``: a Potts
+    model on the neighbour graph, which fixes points near the intersection of
+    two subspaces where the distances alone are ambiguous. Time and memory
+    are ``O(P k)``; no ``P x P`` array is formed.
+
     References
     ----------
     .. [1] R. Vidal and R. Hartley, "Motion Segmentation with Missing Data
@@ -178,15 +267,51 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
 
     _parameter_constraints: dict = {
         "n_clusters": [Interval(Integral, 1, None, closed="left")],
+        "normalize": ["boolean"],
+        "affinity": [StrOptions({"local", "polynomial"})],
+        "n_neighbors": [Interval(Integral, 1, None, closed="left"), None],
+        "affinity_power": [Interval(Integral, 1, None, closed="left")],
+        "refine": ["boolean"],
+        "smoothing": [Interval(Real, 0, None, closed="left")],
+        "subspace_dim": [
+            Interval(Integral, 1, None, closed="left"),
+            StrOptions({"auto"}),
+            None,
+        ],
+        "rank_tol": [Interval(Real, 0, 1, closed="both")],
+        "max_iter": [Interval(Integral, 1, None, closed="left")],
         "assign_labels": [StrOptions({"kmeans"})],
         "n_init": [Interval(Integral, 1, None, closed="left")],
         "random_state": ["random_state"],
     }
 
     def __init__(
-        self, n_clusters=2, *, assign_labels="kmeans", n_init=10, random_state=None
+        self,
+        n_clusters=2,
+        *,
+        normalize=True,
+        affinity="local",
+        n_neighbors=30,
+        affinity_power=4,
+        refine=True,
+        smoothing=5.0,
+        subspace_dim=None,
+        rank_tol=0.05,
+        max_iter=50,
+        assign_labels="kmeans",
+        n_init=10,
+        random_state=None,
     ):
         self.n_clusters = n_clusters
+        self.normalize = normalize
+        self.affinity = affinity
+        self.n_neighbors = n_neighbors
+        self.affinity_power = affinity_power
+        self.refine = refine
+        self.smoothing = smoothing
+        self.subspace_dim = subspace_dim
+        self.rank_tol = rank_tol
+        self.max_iter = max_iter
         self.assign_labels = assign_labels
         self.n_init = n_init
         self.random_state = random_state
@@ -255,21 +380,94 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         """
         X = self._validate_X(X, reset=True)
         nonzero = self._nonzero_rows(X)
+        if self.affinity_power != 1 and self.n_neighbors is None:
+            raise ValueError(
+                f"affinity_power={self.affinity_power} needs a neighbour graph: "
+                "powers of the dense low-rank kernel are not low rank. Set "
+                "n_neighbors to an int or affinity_power=1."
+            )
         random_state = check_random_state(self.random_state)
-        degree = self.n_clusters
+        n_clusters = self.n_clusters
         points = X[nonzero]
+        if self.normalize:
+            points = _unit_rows(points)
 
-        coef = _least_singular_vector(veronese_map(points, degree))
+        coef = _least_singular_vector(veronese_map(points, n_clusters))
         self.coef_ = _canonical_sign(coef)[0]
-        self.exponents_ = veronese_exponents(X.shape[1], degree)
-        normals = _unit_rows(polynomial_gradients(points, self.coef_, degree))
-        labels = spectral_clustering_lowrank(
-            normal_subspace_features(normals),
-            degree,
-            n_init=self.n_init,
-            random_state=random_state,
-        )
-        self.normals_ = _cluster_normals(normals, labels, degree)
+        self.exponents_ = veronese_exponents(X.shape[1], n_clusters)
+
+        neighbors = None
+        if self.n_neighbors is not None or self.refine or self.affinity == "local":
+            n_neighbors = min(
+                self.n_neighbors if self.n_neighbors is not None else 30,
+                points.shape[0] - 1,
+            )
+            neighbors = sign_invariant_neighbors(_unit_rows(points), n_neighbors)
+            local = neighbors[:, : max(n_neighbors // 3, 1)]
+
+        if self.affinity == "polynomial":
+            normals = _unit_rows(polynomial_gradients(points, self.coef_, n_clusters))
+            bases, codims = normals[:, :, None], np.ones(points.shape[0], np.intp)
+        else:
+            bases, codims = local_normal_bases(_unit_rows(points), local, self.rank_tol)
+            normals = bases[:, :, 0]
+
+        if n_clusters == 1:
+            labels = np.zeros(points.shape[0], dtype=np.intp)
+        elif self.n_neighbors is None:
+            labels = spectral_clustering_lowrank(
+                normal_subspace_features(bases),
+                n_clusters,
+                n_init=self.n_init,
+                random_state=random_state,
+            )
+        else:
+            if bases.shape[2] < X.shape[1]:
+                pad = X.shape[1] - bases.shape[2]
+                bases = np.pad(bases, ((0, 0), (0, 0), (0, pad)))
+            graph = normal_affinity_graph(bases, codims, neighbors, self.affinity_power)
+            embedding = spectral_embedding_sparse(graph, n_clusters, random_state)
+            labels = KMeans(
+                n_clusters, n_init=self.n_init, random_state=random_state
+            ).fit_predict(embedding)
+
+        subspace_dim = self.subspace_dim
+        if subspace_dim is None:
+            subspace_dim = X.shape[1] - 1
+        self.n_iter_ = 0
+        if self.refine:
+            labels, _, self.n_iter_, converged = refine_ksubspaces(
+                _unit_rows(points),
+                labels,
+                n_clusters,
+                neighbors=local,
+                smoothing=self.smoothing,
+                subspace_dim=subspace_dim,
+                rank_tol=self.rank_tol,
+                max_iter=self.max_iter,
+                random_state=random_state,
+            )
+            if not converged:
+                warnings.warn(
+                    f"K-subspaces refinement stopped at max_iter={self.max_iter} "
+                    "before the labels settled; increase max_iter.",
+                    ConvergenceWarning,
+                    stacklevel=3,
+                )
+            self.subspace_bases_ = [
+                fit_subspace(
+                    _unit_rows(points)[labels == k], subspace_dim, self.rank_tol
+                )
+                if np.any(labels == k)
+                else np.eye(X.shape[1])[:, : X.shape[1] - 1]
+                for k in range(n_clusters)
+            ]
+            self.normals_ = _cluster_normals(
+                _unit_rows(points), labels, n_clusters, smallest=True
+            )
+        else:
+            self.normals_ = _cluster_normals(normals, labels, n_clusters)
+            self.subspace_bases_ = [_complement(n) for n in self.normals_]
         self.point_normals_ = np.zeros_like(X)
         self.point_normals_[nonzero] = normals
         self.labels_ = np.zeros(X.shape[0], dtype=np.intp)
@@ -277,8 +475,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         return self
 
     def _sine_distances(self, X):
-        """Sine distance ``|n_k . x| / ||x||`` of each point to each hyperplane."""
-        return np.abs(_unit_rows(X) @ self.normals_.T)
+        """Sine of the angle between each point and each fitted subspace."""
+        return np.sqrt(sine_residuals(_unit_rows(X), self.subspace_bases_))
 
     def predict(self, X):
         """Assign each point to the nearest fitted hyperplane.

@@ -30,7 +30,11 @@ def paper_pipeline(n_clusters, *, random_state=None):
     Returns
     -------
     pipeline : sklearn.pipeline.Pipeline
-        ``make_pipeline(PowerFactorization(5, ...), GPCAClustering(...))``.
+        ``make_pipeline(PowerFactorization(5, ...), GPCAClustering(...))`` with
+        the paper's GPCA pinned: raw (not normalised) points, one polynomial's
+        gradients, the dense ``cos^2`` kernel and no refinement
+        (``normalize=False, affinity="polynomial", n_neighbors=None,
+        affinity_power=1, refine=False``).
 
     Examples
     --------
@@ -43,5 +47,13 @@ def paper_pipeline(n_clusters, *, random_state=None):
     """
     return make_pipeline(
         PowerFactorization(5, whiten=True, random_state=random_state),
-        GPCAClustering(n_clusters, random_state=random_state),
+        GPCAClustering(
+            n_clusters,
+            normalize=False,
+            affinity="polynomial",
+            n_neighbors=None,
+            affinity_power=1,
+            refine=False,
+            random_state=random_state,
+        ),
     )
