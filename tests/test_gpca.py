@@ -9,10 +9,15 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
 from scipy.optimize import linear_sum_assignment
 from sklearn.metrics import adjusted_rand_score
+from sklearn.model_selection import GridSearchCV, KFold
+from sklearn.pipeline import make_pipeline
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
+from sklearn_gpca import PowerFactorization
+from sklearn_gpca._affinity import local_normal_bases, sign_invariant_neighbors
 from sklearn_gpca._gpca import GPCAClustering
 from sklearn_gpca._veronese import veronese_map
+from sklearn_gpca.datasets import make_motions
 
 NOISE = 1e-3
 
@@ -232,3 +237,87 @@ def test_predict_checks_features(three_hyperplanes):
 @parametrize_with_checks([GPCAClustering()])
 def test_sklearn_compatible_estimator(estimator, check):
     check(estimator)
+
+
+# Beyond the paper: low-dimensional, dependent subspaces, number of motions.
+
+PAPER = dict(
+    normalize=False,
+    affinity="polynomial",
+    n_neighbors=None,
+    affinity_power=1,
+    refine=False,
+)
+
+
+@pytest.mark.parametrize("dims", [(2, 2), (2, 3), (2, 2, 4), (2, 3, 4)])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_several_low_dimensional_subspaces(dims, seed):
+    # one polynomial cannot model two or more low-dimensional subspaces; local
+    # normal subspaces with estimated codimension can
+    rng = np.random.RandomState(seed)
+    X, y = sample_subspaces(random_bases(dims, 5, rng), 150, rng)
+    model = GPCAClustering(n_clusters=len(dims), random_state=0).fit(X)
+    assert misclassification_rate(y, model.labels_) <= 0.02
+    assert len(model.subspace_bases_) == len(dims)
+    assert model.normals_.shape == (len(dims), 5)
+    assert misclassification_rate(y, model.predict(X)) <= 0.02
+
+
+def test_paper_settings_fail_on_two_planes():
+    # the documented limitation of a single polynomial (section 2.2.4)
+    rng = np.random.RandomState(0)
+    X, y = sample_subspaces(random_bases([2, 2], 5, rng), 150, rng)
+    model = GPCAClustering(n_clusters=2, random_state=0, **PAPER).fit(X)
+    assert misclassification_rate(y, model.labels_) > 0.2
+
+
+def test_local_codimension_estimated():
+    rng = np.random.RandomState(0)
+    X, _ = sample_subspaces(random_bases([2, 4], 5, rng), 150, rng)
+    bases, codims = local_normal_bases(
+        X / np.linalg.norm(X, axis=1, keepdims=True),
+        sign_invariant_neighbors(X / np.linalg.norm(X, axis=1, keepdims=True), 10),
+        0.05,
+    )
+    # points on the plane: at least two normal directions, mostly all three
+    assert np.all(codims[:150] >= 2)
+    assert np.mean(codims[:150] == 3) > 0.5
+    assert np.mean(codims[150:] == 1) > 0.9
+    assert bases.shape == (300, 5, 5)
+
+
+@pytest.mark.parametrize("dependent", ["rotation", "translation"])
+def test_partially_dependent_motions(dependent):
+    X, y = make_motions(
+        2, n_points=200, n_frames=10, dependent=dependent, random_state=0
+    )
+    pipe = make_pipeline(
+        PowerFactorization(random_state=0), GPCAClustering(2, random_state=0)
+    )
+    assert misclassification_rate(y, pipe.fit_predict(X)) <= 0.05
+
+
+def test_grid_search_picks_number_of_motions():
+    rng = np.random.RandomState(0)
+    for n_true in [2, 3]:
+        X, _ = sample_subspaces(random_bases([4] * n_true, 5, rng), 150, rng)
+        search = GridSearchCV(
+            GPCAClustering(random_state=0),
+            {"n_clusters": [1, 2, 3, 4]},
+            cv=KFold(3, shuffle=True, random_state=0),
+        ).fit(X)
+        assert search.best_params_["n_clusters"] == n_true
+
+
+def test_refinement_and_paper_settings_agree_on_clean_hyperplanes(three_hyperplanes):
+    _, X, y, _, _, _ = three_hyperplanes
+    paper = GPCAClustering(3, random_state=0, **PAPER).fit(X)
+    assert misclassification_rate(y, paper.labels_) <= 0.01
+    assert paper.n_iter_ == 0
+
+
+def test_power_needs_graph():
+    X = np.random.RandomState(0).randn(40, 3)
+    with pytest.raises(ValueError, match="affinity_power=4 needs a neighbour"):
+        GPCAClustering(n_neighbors=None).fit(X)
