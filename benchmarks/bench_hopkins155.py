@@ -118,7 +118,9 @@ MISSING_METHODS = {
     "paper_pipeline": METHODS["paper_pipeline"],
     "default pipeline": default_pipeline,
     "IterativeImputer + default": imputed(
-        lambda seed: IterativeImputer(max_iter=10, random_state=seed)
+        lambda seed: IterativeImputer(
+            max_iter=5, n_nearest_features=20, random_state=seed
+        )
     ),
     "KNNImputer + default": imputed(lambda seed: KNNImputer(n_neighbors=5)),
     "SoftImpute + default": imputed(lambda seed: SoftImpute()),
