@@ -14,202 +14,12 @@ figures as CSV beside them.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import argparse
-import csv
 import sys
-import time
-import warnings
 from pathlib import Path
 
-import numpy as np
-from joblib import Parallel, delayed
-from sklearn.base import BaseEstimator, TransformerMixin
-from sklearn.cluster import AgglomerativeClustering, KMeans, SpectralClustering
-from sklearn.experimental import enable_iterative_imputer  # noqa: F401
-from sklearn.impute import IterativeImputer, KNNImputer
-from sklearn.pipeline import make_pipeline
-
-from sklearn_gpca import (
-    GPCAClustering,
-    PowerFactorization,
-    ShapeInteractionClustering,
-    paper_pipeline,
-)
-from sklearn_gpca.datasets import load_hopkins155, make_missing
-from sklearn_gpca.metrics import misclassification_rate
+from sklearn_gpca._benchmark import MISSING_FRACTIONS, run_hopkins155
 
 RESULTS = Path(__file__).parent / "results"
-
-#: Mean misclassification (%) published for Hopkins155 (2 motions, 3, all),
-#: as collected in ../shared/data/README.md.
-PUBLISHED = {
-    "GPCA (published)": (4.59, 28.67, 10.34),
-    "RANSAC": (5.56, 22.94, 9.76),
-    "LSA (4n)": (3.45, 9.73, 4.94),
-    "LRR": (2.13, 4.03, 2.56),
-    "SSC": (1.53, 4.40, 2.18),
-    "SMR": (0.88, 1.92, 1.12),
-    "FSASC": (0.80, 2.48, 1.18),
-}
-
-
-def default_pipeline(n, seed):
-    return make_pipeline(
-        PowerFactorization(random_state=seed), GPCAClustering(n, random_state=seed)
-    )
-
-
-#: Methods run on complete data: name -> factory(n_motions, seed).
-METHODS = {
-    "paper_pipeline": lambda n, seed: paper_pipeline(n, random_state=seed),
-    "default pipeline": default_pipeline,
-    "Costeira-Kanade (|Q|, spectral)": lambda n, seed: ShapeInteractionClustering(
-        n, random_state=seed
-    ),
-    "SpectralClustering (kNN graph)": lambda n, seed: SpectralClustering(
-        n, affinity="nearest_neighbors", random_state=seed
-    ),
-    "KMeans": lambda n, seed: KMeans(n, n_init=10, random_state=seed),
-    "AgglomerativeClustering": lambda n, seed: AgglomerativeClustering(n),
-}
-
-
-class SoftImpute(TransformerMixin, BaseEstimator):
-    """Soft-thresholded SVD imputation (Mazumder, Hastie & Tibshirani, 2010).
-
-    Fills the missing entries by iterating ``Z <- S_lambda(P_obs(X) +
-    P_miss(Z))``, where ``S_lambda`` shrinks the singular values by
-    ``lambda = shrinkage * ||X_0||_2``.
-    """
-
-    def __init__(self, shrinkage=0.01, max_iter=200, tol=1e-5):
-        self.shrinkage = shrinkage
-        self.max_iter = max_iter
-        self.tol = tol
-
-    def fit(self, X, y=None):
-        return self
-
-    def transform(self, X):
-        missing = np.isnan(X)
-        Z = np.where(missing, 0.0, X)
-        threshold = self.shrinkage * np.linalg.norm(Z, 2)
-        for _ in range(self.max_iter):
-            u, s, vt = np.linalg.svd(Z, full_matrices=False)
-            low_rank = (u * np.maximum(s - threshold, 0.0)) @ vt
-            change = np.linalg.norm((low_rank - Z)[missing])
-            Z = np.where(missing, low_rank, X)
-            if change <= self.tol * np.linalg.norm(Z):
-                break
-        return Z
-
-
-def imputed(imputer_factory):
-    """Impute, then the default pipeline (the projection sees complete data)."""
-
-    def factory(n, seed):
-        steps = default_pipeline(n, seed)
-        return make_pipeline(imputer_factory(seed), *[s for _, s in steps.steps])
-
-    return factory
-
-
-#: Methods run on trajectories with missing entries.
-MISSING_METHODS = {
-    "paper_pipeline": METHODS["paper_pipeline"],
-    "default pipeline": default_pipeline,
-    "IterativeImputer + default": imputed(
-        lambda seed: IterativeImputer(
-            max_iter=5, n_nearest_features=20, random_state=seed
-        )
-    ),
-    "KNNImputer + default": imputed(lambda seed: KNNImputer(n_neighbors=5)),
-    "SoftImpute + default": imputed(lambda seed: SoftImpute()),
-}
-
-
-def run_one(method, factory, sequence, X, missing, seed):
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        start = time.perf_counter()
-        labels = factory(sequence.n_motions, seed).fit_predict(X)
-        seconds = time.perf_counter() - start
-    return {
-        "method": method,
-        "sequence": sequence.name,
-        "category": sequence.category,
-        "n_motions": sequence.n_motions,
-        "missing": missing,
-        "error": 100 * misclassification_rate(sequence.y, labels),
-        "seconds": seconds,
-    }
-
-
-def run_all(tasks, jobs):
-    results = []
-    parallel = Parallel(n_jobs=jobs, return_as="generator_unordered")
-    for i, result in enumerate(parallel(tasks), start=1):
-        results.append(result)
-        if i % 10 == 0 or i == len(tasks):
-            print(f"\r  {i}/{len(tasks)} fits", end="", file=sys.stderr, flush=True)
-    print(file=sys.stderr)
-    return results
-
-
-def _stats(rows, key="error"):
-    values = np.array([r[key] for r in rows])
-    return values.mean(), np.median(values)
-
-
-def complete_table(results):
-    lines = [
-        "| method | 2 motions mean | median | 3 motions mean | median | all mean "
-        "| median | checkerboard | traffic | articulated | median s / sequence |",
-        "|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    for method in METHODS:
-        rows = [r for r in results if r["method"] == method]
-        cells = []
-        for subset in (
-            [r for r in rows if r["n_motions"] == 2],
-            [r for r in rows if r["n_motions"] == 3],
-            rows,
-        ):
-            cells += [f"{v:.2f}" for v in _stats(subset)]
-        for category in ("checkerboard", "traffic", "articulated"):
-            subset = [r for r in rows if r["category"] == category]
-            cells.append(f"{_stats(subset)[0]:.2f}")
-        seconds = np.median([r["seconds"] for r in rows])
-        lines.append(f"| {method} | " + " | ".join(cells) + f" | {seconds:.3f} |")
-    for method, (two, three, every) in PUBLISHED.items():
-        lines.append(
-            f"| {method} | {two:.2f} | | {three:.2f} | | {every:.2f} | | | | | |"
-        )
-    return lines
-
-
-def missing_table(results, fractions):
-    header = " | ".join(f"{100 * f:.0f} %" for f in fractions)
-    lines = [
-        f"| method | {header} | median s / sequence |",
-        "|---|" + "---|" * (len(fractions) + 1),
-    ]
-    for method in MISSING_METHODS:
-        rows = [r for r in results if r["method"] == method]
-        cells = []
-        for fraction in fractions:
-            subset = [r for r in rows if r["missing"] == fraction]
-            mean, median = _stats(subset)
-            cells.append(f"{mean:.2f} ({median:.2f})")
-        seconds = np.median([r["seconds"] for r in rows])
-        lines.append(f"| {method} | " + " | ".join(cells) + f" | {seconds:.3f} |")
-    return lines
-
-
-def write_csv(path, results):
-    with path.open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(results[0]))
-        writer.writeheader()
-        writer.writerows(results)
 
 
 def main():
@@ -221,85 +31,20 @@ def main():
         "--missing",
         type=float,
         nargs="*",
-        default=[0.0, 0.1, 0.2, 0.3, 0.4, 0.5],
+        default=list(MISSING_FRACTIONS),
         help="occlusion fractions for the two-motion sequences ('' to skip)",
     )
     parser.add_argument("--output-dir", type=Path, default=RESULTS)
     args = parser.parse_args()
-
-    sequences = load_hopkins155(args.data_home)
-    print(f"{len(sequences)} sequences", file=sys.stderr)
     command = " ".join(["python", "benchmarks/bench_hopkins155.py", *sys.argv[1:]])
-    args.output_dir.mkdir(parents=True, exist_ok=True)
-
-    start = time.perf_counter()
-    results = run_all(
-        [
-            delayed(run_one)(name, factory, seq, seq.X, 0.0, args.seed)
-            for seq in sequences
-            for name, factory in METHODS.items()
-        ],
-        args.jobs,
+    run_hopkins155(
+        args.data_home,
+        args.output_dir,
+        command=command,
+        jobs=args.jobs,
+        seed=args.seed,
+        missing=args.missing,
     )
-    elapsed = time.perf_counter() - start
-    write_csv(args.output_dir / "hopkins155.csv", results)
-    table = [
-        "# Hopkins155: misclassification error (%)",
-        "",
-        f"All {len(sequences)} sequences with two or three motions (complete "
-        "trajectories, normalised coordinates `x[:2]`), one run each with "
-        f"random_state={args.seed}. Published rows are from the literature "
-        "(means only). Regenerate with:",
-        "",
-        f"    {command}",
-        "",
-        f"Wall time {elapsed:.0f} s with {args.jobs} jobs.",
-        "",
-        *complete_table(results),
-        "",
-    ]
-    (args.output_dir / "hopkins155.md").write_text("\n".join(table))
-    print("\n".join(table))
-
-    if args.missing:
-        two_motions = [s for s in sequences if s.n_motions == 2]
-        start = time.perf_counter()
-        results = run_all(
-            [
-                delayed(run_one)(
-                    name,
-                    factory,
-                    seq,
-                    make_missing(seq.X, fraction, random_state=args.seed),
-                    fraction,
-                    args.seed,
-                )
-                for fraction in args.missing
-                for seq in two_motions
-                for name, factory in MISSING_METHODS.items()
-            ],
-            args.jobs,
-        )
-        elapsed = time.perf_counter() - start
-        write_csv(args.output_dir / "hopkins155_missing.csv", results)
-        table = [
-            "# Hopkins155 with occlusions: misclassification error (%)",
-            "",
-            f"The {len(two_motions)} two-motion sequences; each track is visible "
-            "on one contiguous window of frames (`sklearn_gpca.datasets."
-            f"make_missing(X, fraction, pattern='occlusion', random_state="
-            f"{args.seed})`), at least 3 frames per track. Mean (median) error "
-            "against the fraction of point-frames removed. Regenerate with:",
-            "",
-            f"    {command}",
-            "",
-            f"Wall time {elapsed:.0f} s with {args.jobs} jobs.",
-            "",
-            *missing_table(results, args.missing),
-            "",
-        ]
-        (args.output_dir / "hopkins155_missing.md").write_text("\n".join(table))
-        print("\n".join(table))
 
 
 if __name__ == "__main__":
