@@ -13,8 +13,10 @@ are sign invariant: ``x`` and ``-x`` are the same point. Everything is
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import eigsh
+from scipy.sparse.linalg import ArpackNoConvergence, eigsh, lobpcg
 from sklearn.neighbors import NearestNeighbors
+
+from sklearn_gpca._spectral import normal_subspace_features
 
 _TINY = np.finfo(np.float64).tiny
 
@@ -121,9 +123,9 @@ def normal_affinity_graph(bases, codims, neighbors, power):
     n_samples, n_neighbors = neighbors.shape
     rows = np.repeat(np.arange(n_samples), n_neighbors)
     cols = neighbors.ravel()
-    # tr(P_i P_j) = ||N_i^T N_j||_F^2
-    overlap = np.einsum("eka,ekb->eab", bases[rows], bases[cols])
-    traces = np.einsum("eab,eab->e", overlap, overlap)
+    # tr(P_i P_j) = <phi_i, phi_j> with phi the upper triangle of P_i = N_i N_i^T
+    features = normal_subspace_features(bases)
+    traces = np.maximum(np.einsum("ed,ed->e", features[rows], features[cols]), 0.0)
     weights = (traces / np.maximum(codims[rows], codims[cols])) ** power
     affinity = sp.csr_matrix((weights, (rows, cols)), shape=(n_samples, n_samples))
     return affinity.maximum(affinity.T).tocsr()
@@ -132,8 +134,11 @@ def normal_affinity_graph(bases, codims, neighbors, power):
 def spectral_embedding_sparse(affinity, n_components, random_state):
     """Ng-Jordan-Weiss embedding of a sparse non-negative affinity.
 
-    Leading eigenvectors of ``D^{-1/2} A D^{-1/2}`` by ARPACK (Lanczos), rows
-    scaled to unit norm. Isolated points get a zero row.
+    Leading eigenvectors of ``D^{-1/2} A D^{-1/2}`` by ARPACK (Lanczos; LOBPCG
+    if it does not converge), rows scaled to unit norm. Isolated points get a
+    zero row. The columns are in decreasing order of eigenvalue, so the first
+    ``m`` columns of an embedding with more components are the embedding with
+    ``m`` components before row scaling.
 
     Parameters
     ----------
@@ -148,13 +153,123 @@ def spectral_embedding_sparse(affinity, n_components, random_state):
     -------
     embedding : ndarray of shape (n_samples, n_components)
     """
+    vectors = leading_eigenvectors(affinity, n_components, random_state)
+    return _unit_rows(vectors)
+
+
+def _unit_rows(vectors):
+    norms = np.linalg.norm(vectors, axis=1, keepdims=True)
+    return vectors / np.maximum(norms, _TINY)
+
+
+def leading_eigenvectors(affinity, n_components, random_state):
+    """Leading eigenvectors of ``D^{-1/2} A D^{-1/2}``, largest first.
+
+    See :func:`spectral_embedding_sparse`, which scales their rows.
+    """
     n_samples = affinity.shape[0]
     degrees = np.asarray(affinity.sum(axis=1)).ravel()
     inv_sqrt = 1.0 / np.sqrt(np.maximum(degrees, _TINY))
     scaling = sp.diags(inv_sqrt)
     normalized = scaling @ affinity @ scaling
     start = random_state.uniform(-1, 1, n_samples)
-    _, vectors = eigsh(normalized, k=n_components, which="LA", v0=start)
+    try:
+        values, vectors = eigsh(normalized, k=n_components, which="LA", v0=start)
+    except ArpackNoConvergence:
+        # clustered leading eigenvalues (a graph with many components): LOBPCG
+        # from a random block, still O(n_samples * n_neighbors) per iteration
+        block = random_state.standard_normal((n_samples, n_components))
+        values, vectors = lobpcg(normalized, block, largest=True, tol=1e-8, maxiter=500)
+    # leading first
+    vectors = vectors[:, np.argsort(values)[::-1]]
     vectors[degrees <= 0] = 0.0
-    norms = np.linalg.norm(vectors, axis=1, keepdims=True)
-    return vectors / np.maximum(norms, _TINY)
+    return vectors
+
+
+def _between_cluster_weights(affinity, labels, n_clusters):
+    """``C[a, b] = sum of A_ij over i in cluster a, j in cluster b``."""
+    n_samples = labels.shape[0]
+    indicator = sp.csr_matrix(
+        (np.ones(n_samples), (np.arange(n_samples), labels)),
+        shape=(n_samples, n_clusters),
+    )
+    return (indicator.T @ affinity @ indicator).toarray()
+
+
+def normalized_cut(affinity, labels, n_clusters):
+    """Normalised cut ``sum_k cut(C_k, rest) / vol(C_k)`` of a labelling.
+
+    Parameters
+    ----------
+    affinity : scipy.sparse matrix of shape (n_samples, n_samples)
+        Symmetric non-negative affinity.
+    labels : ndarray of shape (n_samples,)
+        Labels in ``0 .. n_clusters - 1``.
+    n_clusters : int
+        Number of clusters.
+
+    Returns
+    -------
+    ncut : float
+        Between 0 (no edge between clusters) and ``n_clusters``; ``inf`` if
+        a cluster has zero volume. ``O(n_samples * n_neighbors)``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import scipy.sparse as sp
+    >>> from sklearn_gpca._affinity import normalized_cut
+    >>> A = sp.csr_matrix(np.array([[0, 1, 0], [1, 0, 1], [0, 1, 0]], float))
+    >>> float(normalized_cut(A, np.array([0, 0, 1]), 2))
+    1.333...
+    """
+    weights = _between_cluster_weights(affinity, labels, n_clusters)
+    volumes = weights.sum(axis=1)
+    if np.any(volumes <= 0):
+        return np.inf
+    return float(np.sum((volumes - np.diag(weights)) / volumes))
+
+
+def merge_clusters(affinity, labels, n_clusters):
+    """Greedily merge clusters until ``n_clusters`` remain.
+
+    At each step the pair ``(a, b)`` with the largest normalised association
+    ``cut(a, b) / min(vol(a), vol(b))`` on the graph is merged: a cluster that
+    is mostly connected to another one is part of it. Used to recover a small
+    subspace that spectral clustering with ``n_clusters`` would have merged
+    with part of a large one: over-segment into more clusters, then merge.
+
+    Parameters
+    ----------
+    affinity : scipy.sparse matrix of shape (n_samples, n_samples)
+        Symmetric non-negative affinity.
+    labels : ndarray of shape (n_samples,)
+        Labels in ``0 .. m - 1`` with ``m >= n_clusters``.
+    n_clusters : int
+        Number of clusters to keep.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+        Labels in ``0 .. n_clusters - 1``.
+    """
+    _, labels = np.unique(labels, return_inverse=True)
+    labels = labels.astype(np.intp)
+    weights = _between_cluster_weights(affinity, labels, labels.max() + 1)
+    groups = [[k] for k in range(weights.shape[0])]
+    while len(groups) > n_clusters:
+        volumes = weights.sum(axis=1)
+        association = weights / np.maximum(
+            np.minimum(volumes[:, None], volumes[None, :]), _TINY
+        )
+        np.fill_diagonal(association, -np.inf)
+        a, b = np.unravel_index(np.argmax(association), association.shape)
+        a, b = min(a, b), max(a, b)
+        weights[a] += weights[b]
+        weights[:, a] += weights[:, b]
+        weights = np.delete(np.delete(weights, b, axis=0), b, axis=1)
+        groups[a] += groups.pop(b)
+    mapping = np.empty(sum(len(g) for g in groups), dtype=np.intp)
+    for new, group in enumerate(groups):
+        mapping[group] = new
+    return mapping[labels]

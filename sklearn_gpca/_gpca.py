@@ -23,10 +23,12 @@ from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from sklearn_gpca._affinity import (
+    leading_eigenvectors,
     local_normal_bases,
+    merge_clusters,
     normal_affinity_graph,
+    normalized_cut,
     sign_invariant_neighbors,
-    spectral_embedding_sparse,
 )
 from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
 from sklearn_gpca._missing import describe_indices
@@ -146,6 +148,16 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         hyperplanes everywhere.
     max_iter : int, default=50
         Maximum number of K-subspaces rounds.
+    init : {"multi", "spectral"}, default="multi"
+        Initial segmentation(s) of the refinement, when ``n_neighbors`` is an
+        int. ``"spectral"``: spectral clustering of the ``affinity`` graph.
+        ``"multi"`` (beyond the paper): three candidates -- spectral clustering
+        of the ``affinity`` graph, of its entrywise product with the
+        polynomial-normal graph, and of the ``affinity`` graph into
+        ``n_clusters + 1`` clusters greedily merged back (recovers a small
+        motion that the plain split would share out) -- each refined, and the
+        one with the smallest normalised cut on the polynomial-normal kNN
+        graph kept (see Notes). About three times the cost of ``"spectral"``.
     assign_labels : {"kmeans"}, default="kmeans"
         How the spectral embedding is turned into labels: k-means on the
         row-normalised eigenvectors (Ng, Jordan & Weiss).
@@ -174,7 +186,14 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         ||Dp(w_i)||`` for ``affinity="polynomial"``, the least singular
         direction of its neighbourhood for ``"local"``; zero for all-zero rows.
     n_iter_ : int
-        Number of K-subspaces rounds run (0 without refinement).
+        Number of K-subspaces rounds run (0 without refinement); the largest
+        over the candidates with ``init="multi"``.
+    init_scores_ : ndarray of shape (n_candidates,)
+        Normalised cut of each (refined) candidate segmentation on the
+        polynomial-normal graph with ``init="multi"``; ``[0.]`` otherwise.
+    init_chosen_ : int
+        Index of the kept candidate (0: plain spectral, 1: product graph,
+        2: over-segmented and merged).
     coef_ : ndarray of shape (n_monomials,)
         Unit-norm coefficients ``c`` of the fitted polynomial
         ``p(w) = c^T nu_n(w)``, one per row of ``exponents_``.
@@ -240,6 +259,14 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     two subspaces where the distances alone are ambiguous. Time and memory
     are ``O(P k)``; no ``P x P`` array is formed.
 
+    With ``init="multi"`` the refinement runs from three spectral
+    initialisations and keeps the labels ``l`` minimising the normalised cut
+    ``sum_k cut(C_k, rest) / vol(C_k)`` on the kNN graph weighted by the
+    polynomial gradients (the paper's normals, power ``q``). On Hopkins155 its
+    per-sequence rank correlation with the error was 0.5, against 0.1-0.2 for
+    the K-subspaces residual energy, which often prefers a wrong split (a
+    hyperplane in ``R^5`` can hold two degenerate 2-D motions).
+
     References
     ----------
     .. [1] R. Vidal and R. Hartley, "Motion Segmentation with Missing Data
@@ -280,6 +307,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         ],
         "rank_tol": [Interval(Real, 0, 1, closed="both")],
         "max_iter": [Interval(Integral, 1, None, closed="left")],
+        "init": [StrOptions({"multi", "spectral"})],
         "assign_labels": [StrOptions({"kmeans"})],
         "n_init": [Interval(Integral, 1, None, closed="left")],
         "random_state": ["random_state"],
@@ -298,6 +326,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         subspace_dim=None,
         rank_tol=0.05,
         max_iter=50,
+        init="multi",
         assign_labels="kmeans",
         n_init=10,
         random_state=None,
@@ -312,6 +341,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self.subspace_dim = subspace_dim
         self.rank_tol = rank_tol
         self.max_iter = max_iter
+        self.init = init
         self.assign_labels = assign_labels
         self.n_init = n_init
         self.random_state = random_state
@@ -412,59 +442,71 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             bases, codims = local_normal_bases(_unit_rows(points), local, self.rank_tol)
             normals = bases[:, :, 0]
 
-        if n_clusters == 1:
-            labels = np.zeros(points.shape[0], dtype=np.intp)
-        elif self.n_neighbors is None:
-            labels = spectral_clustering_lowrank(
-                normal_subspace_features(bases),
-                n_clusters,
-                n_init=self.n_init,
-                random_state=random_state,
-            )
-        else:
-            if bases.shape[2] < X.shape[1]:
-                pad = X.shape[1] - bases.shape[2]
-                bases = np.pad(bases, ((0, 0), (0, 0), (0, pad)))
-            graph = normal_affinity_graph(bases, codims, neighbors, self.affinity_power)
-            embedding = spectral_embedding_sparse(graph, n_clusters, random_state)
-            labels = KMeans(
-                n_clusters, n_init=self.n_init, random_state=random_state
-            ).fit_predict(embedding)
-
+        unit = _unit_rows(points)
         subspace_dim = self.subspace_dim
         if subspace_dim is None:
             subspace_dim = X.shape[1] - 1
+        refine_kwargs = dict(
+            neighbors=local if self.refine else None,
+            smoothing=self.smoothing,
+            subspace_dim=subspace_dim,
+            rank_tol=self.rank_tol,
+            max_iter=self.max_iter,
+            random_state=random_state,
+        )
         self.n_iter_ = 0
-        if self.refine:
-            labels, _, self.n_iter_, converged = refine_ksubspaces(
-                _unit_rows(points),
-                labels,
-                n_clusters,
-                neighbors=local,
-                smoothing=self.smoothing,
-                subspace_dim=subspace_dim,
-                rank_tol=self.rank_tol,
-                max_iter=self.max_iter,
-                random_state=random_state,
+        converged = True
+        if n_clusters == 1:
+            candidates = [np.zeros(points.shape[0], dtype=np.intp)]
+        elif self.n_neighbors is None:
+            candidates = [
+                spectral_clustering_lowrank(
+                    normal_subspace_features(bases),
+                    n_clusters,
+                    n_init=self.n_init,
+                    random_state=random_state,
+                )
+            ]
+        else:
+            candidates, poly_graph = self._spectral_candidates(
+                points, bases, codims, neighbors, random_state
             )
-            if not converged:
-                warnings.warn(
-                    f"K-subspaces refinement stopped at max_iter={self.max_iter} "
-                    "before the labels settled; increase max_iter.",
-                    ConvergenceWarning,
-                    stacklevel=3,
+        if self.refine:
+            refined = []
+            for initial in candidates:
+                labels, _, n_iter, settled = refine_ksubspaces(
+                    unit, initial, n_clusters, **refine_kwargs
                 )
+                refined.append(labels)
+                self.n_iter_ = max(self.n_iter_, n_iter)
+                converged = converged and settled
+            candidates = refined
+        if len(candidates) > 1:
+            # normalised cut on the polynomial-normal graph, an affinity the
+            # candidates were not all built from, picks the segmentation
+            cuts = [normalized_cut(poly_graph, c, n_clusters) for c in candidates]
+            self.init_scores_ = np.array(cuts)
+            self.init_chosen_ = int(np.argmin(cuts))
+            labels = candidates[self.init_chosen_]
+        else:
+            labels = candidates[0]
+            self.init_scores_ = np.zeros(1)
+            self.init_chosen_ = 0
+        if not converged:
+            warnings.warn(
+                f"K-subspaces refinement stopped at max_iter={self.max_iter} "
+                "before the labels settled; increase max_iter.",
+                ConvergenceWarning,
+                stacklevel=3,
+            )
+        if self.refine:
             self.subspace_bases_ = [
-                fit_subspace(
-                    _unit_rows(points)[labels == k], subspace_dim, self.rank_tol
-                )
+                fit_subspace(unit[labels == k], subspace_dim, self.rank_tol)
                 if np.any(labels == k)
                 else np.eye(X.shape[1])[:, : X.shape[1] - 1]
                 for k in range(n_clusters)
             ]
-            self.normals_ = _cluster_normals(
-                _unit_rows(points), labels, n_clusters, smallest=True
-            )
+            self.normals_ = _cluster_normals(unit, labels, n_clusters, smallest=True)
         else:
             self.normals_ = _cluster_normals(normals, labels, n_clusters)
             self.subspace_bases_ = [_complement(n) for n in self.normals_]
@@ -473,6 +515,52 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self.labels_ = np.zeros(X.shape[0], dtype=np.intp)
         self.labels_[nonzero] = labels
         return self
+
+    def _kmeans(self, embedding, n_clusters, random_state):
+        return KMeans(
+            n_clusters, n_init=self.n_init, random_state=random_state
+        ).fit_predict(_unit_rows(embedding))
+
+    def _spectral_candidates(self, points, bases, codims, neighbors, random_state):
+        """Initial segmentations from the sparse graphs, and the polynomial graph.
+
+        ``init="spectral"``: spectral clustering of the ``affinity`` graph.
+        ``init="multi"``: also of its entrywise product with the
+        polynomial-normal graph, and an over-segmentation of the ``affinity``
+        graph into ``n_clusters + 1`` clusters merged back by
+        :func:`merge_clusters`. The ``n_clusters + 1`` leading eigenvectors
+        are computed once; their first ``n_clusters`` give the plain embedding.
+        """
+        n_samples, n_features = points.shape
+        n_clusters = self.n_clusters
+        if bases.shape[2] < n_features:
+            pad = n_features - bases.shape[2]
+            bases = np.pad(bases, ((0, 0), (0, 0), (0, pad)))
+        power = self.affinity_power
+        graph = normal_affinity_graph(bases, codims, neighbors, power)
+        multi = self.init == "multi" and n_samples > n_clusters + 2
+        if not multi:
+            vectors = leading_eigenvectors(graph, n_clusters, random_state)
+            return [self._kmeans(vectors, n_clusters, random_state)], None
+        if self.affinity == "polynomial":
+            poly_graph = graph
+        else:
+            gradients = _unit_rows(polynomial_gradients(points, self.coef_, n_clusters))
+            poly_graph = normal_affinity_graph(
+                gradients[:, :, None], np.ones(n_samples), neighbors, power
+            )
+        vectors = leading_eigenvectors(graph, n_clusters + 1, random_state)
+        product = leading_eigenvectors(
+            graph.multiply(poly_graph).tocsr(), n_clusters, random_state
+        )
+        candidates = [
+            self._kmeans(vectors[:, :n_clusters], n_clusters, random_state),
+            self._kmeans(product, n_clusters, random_state),
+            merge_clusters(
+                graph, self._kmeans(vectors, n_clusters + 1, random_state), n_clusters
+            ),
+        ]
+        return candidates, poly_graph
 
     def _sine_distances(self, X):
         """Sine of the angle between each point and each fitted subspace."""

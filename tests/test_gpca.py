@@ -321,3 +321,22 @@ def test_power_needs_graph():
     X = np.random.RandomState(0).randn(40, 3)
     with pytest.raises(ValueError, match="affinity_power=4 needs a neighbour"):
         GPCAClustering(n_neighbors=None).fit(X)
+
+
+@pytest.mark.parametrize("init", ["multi", "spectral"])
+def test_init_candidates(init):
+    """Both initialisations segment an unbalanced union of hyperplanes."""
+    rng = np.random.RandomState(7)
+    bases = random_bases([4, 4, 4], 5, rng)
+    X = np.vstack(
+        [rng.randn(n, 4) @ B.T for n, B in zip([30, 60, 200], bases, strict=True)]
+    )
+    X += NOISE * rng.randn(*X.shape)
+    y = np.repeat(np.arange(3), [30, 60, 200])
+    model = GPCAClustering(3, init=init, random_state=0).fit(X)
+    assert misclassification_rate(y, model.labels_) < 0.02
+    n_candidates = 3 if init == "multi" else 1
+    assert model.init_scores_.shape == (n_candidates,)
+    assert 0 <= model.init_chosen_ < n_candidates
+    if init == "multi":
+        assert model.init_scores_[model.init_chosen_] == model.init_scores_.min()

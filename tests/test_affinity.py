@@ -1,0 +1,106 @@
+"""Tests for the sparse nearest-neighbour affinities and graph utilities."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+import pytest
+import scipy.sparse as sp
+from numpy.testing import assert_allclose, assert_array_equal
+
+from sklearn_gpca._affinity import (
+    leading_eigenvectors,
+    local_normal_bases,
+    merge_clusters,
+    normal_affinity_graph,
+    normalized_cut,
+    sign_invariant_neighbors,
+    spectral_embedding_sparse,
+)
+
+
+def unit(X):
+    return X / np.linalg.norm(X, axis=1, keepdims=True)
+
+
+def two_blocks(sizes, rng, cross=0.0):
+    """Random symmetric affinity with dense blocks and weak cross edges."""
+    n = sum(sizes)
+    labels = np.repeat(np.arange(len(sizes)), sizes)
+    A = rng.uniform(0.5, 1.0, (n, n)) * (labels[:, None] == labels[None, :])
+    A += cross * rng.uniform(0, 1, (n, n)) * (labels[:, None] != labels[None, :])
+    A = np.triu(A, 1)
+    return sp.csr_matrix(A + A.T), labels
+
+
+def test_sign_invariant_neighbors_ignores_sign():
+    rng = np.random.RandomState(0)
+    X = unit(rng.randn(50, 4))
+    flipped = X * np.where(rng.rand(50) < 0.5, -1.0, 1.0)[:, None]
+    assert_array_equal(
+        sign_invariant_neighbors(X, 5), sign_invariant_neighbors(flipped, 5)
+    )
+    assert not np.any(sign_invariant_neighbors(X, 5) == np.arange(50)[:, None])
+
+
+@pytest.mark.parametrize("dim", [2, 3, 4])
+def test_local_normal_bases_span_complement(dim):
+    rng = np.random.RandomState(dim)
+    basis = np.linalg.qr(rng.randn(5, dim))[0]
+    X = unit(rng.randn(80, dim) @ basis.T)
+    neighbors = sign_invariant_neighbors(X, 10)
+    bases, codims = local_normal_bases(X, neighbors, 0.05)
+    assert_array_equal(codims, 5 - dim)
+    # every normal direction is orthogonal to the subspace
+    assert_allclose(np.einsum("kd,pkc->pdc", basis, bases), 0.0, atol=1e-8)
+
+
+def test_normal_affinity_graph_weights_are_cos_power():
+    rng = np.random.RandomState(1)
+    normals = unit(rng.randn(20, 3))
+    neighbors = (np.arange(20)[:, None] + np.arange(1, 4)) % 20
+    graph = normal_affinity_graph(normals[:, :, None], np.ones(20), neighbors, 2)
+    i, j = 0, 2
+    assert_allclose(graph[i, j], (normals[i] @ normals[j]) ** 4, rtol=1e-12)
+    assert_allclose((graph - graph.T).toarray(), 0.0)
+
+
+def test_spectral_embedding_separates_blocks():
+    rng = np.random.RandomState(2)
+    graph, labels = two_blocks([30, 40, 20], rng, cross=0.01)
+    embedding = spectral_embedding_sparse(graph, 3, rng)
+    assert_allclose(np.linalg.norm(embedding, axis=1), 1.0)
+    # rows of one block point the same way
+    for k in range(3):
+        rows = embedding[labels == k]
+        assert np.min(np.abs(rows @ rows[0])) > 0.99
+
+
+def test_leading_eigenvectors_nested():
+    """The first m of m + 1 eigenvectors span the m-eigenvector space."""
+    rng = np.random.RandomState(3)
+    graph, _ = two_blocks([25, 25, 25], rng, cross=0.05)
+    few = leading_eigenvectors(graph, 2, np.random.RandomState(0))
+    more = leading_eigenvectors(graph, 3, np.random.RandomState(1))
+    overlap = np.linalg.svd(few.T @ more[:, :2], compute_uv=False)
+    assert_allclose(overlap, 1.0, atol=1e-6)
+
+
+def test_normalized_cut_values():
+    rng = np.random.RandomState(4)
+    graph, labels = two_blocks([10, 15], rng)
+    assert normalized_cut(graph, labels, 2) == pytest.approx(0.0)
+    mixed = labels.copy()
+    mixed[0] = 1
+    assert normalized_cut(graph, mixed, 2) > 0.0
+    assert normalized_cut(graph, np.zeros(25, np.intp), 2) == np.inf
+
+
+def test_merge_clusters_joins_split_block():
+    rng = np.random.RandomState(5)
+    graph, labels = two_blocks([20, 30], rng, cross=0.01)
+    over = labels.copy()
+    over[:7] = 2  # split the first block in two
+    merged = merge_clusters(graph, over, 2)
+    assert set(merged) == {0, 1}
+    assert_array_equal(merged[:20], merged[0])
+    assert merged[0] != merged[-1]

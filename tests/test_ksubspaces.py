@@ -1,0 +1,84 @@
+"""Tests for the smoothed K-subspaces refinement."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose, assert_array_equal
+
+from sklearn_gpca._affinity import sign_invariant_neighbors
+from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
+
+
+def unit(X):
+    return X / np.linalg.norm(X, axis=1, keepdims=True)
+
+
+def union(dims, n_per, rng, noise=1e-3, n_features=5):
+    bases = [np.linalg.qr(rng.randn(n_features, d))[0] for d in dims]
+    X = np.vstack([rng.randn(n_per, B.shape[1]) @ B.T for B in bases])
+    X += noise * rng.randn(*X.shape)
+    return unit(X), np.repeat(np.arange(len(dims)), n_per), bases
+
+
+@pytest.mark.parametrize("dim", [1, 2, 4])
+def test_fit_subspace_recovers_span(dim):
+    rng = np.random.RandomState(dim)
+    X, _, (basis,) = union([dim], 50, rng, noise=0.0)
+    fitted = fit_subspace(X, dim, 0.05)
+    assert fitted.shape == (5, dim)
+    assert_allclose(fitted.T @ fitted, np.eye(dim), atol=1e-10)
+    assert_allclose(np.linalg.svd(basis.T @ fitted, compute_uv=False), 1.0)
+    assert fit_subspace(X, "auto", 0.05).shape == (5, dim)
+
+
+def test_sine_residuals_range():
+    rng = np.random.RandomState(0)
+    X, _, bases = union([2, 3], 20, rng, noise=0.0)
+    residuals = sine_residuals(X, bases)
+    assert residuals.shape == (40, 2)
+    assert np.all((residuals >= 0) & (residuals <= 1))
+    assert_allclose(residuals[:20, 0], 0.0, atol=1e-12)
+    assert_allclose(residuals[20:, 1], 0.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("smoothing", [0.0, 5.0])
+def test_refinement_fixes_corrupted_labels(smoothing):
+    rng = np.random.RandomState(1)
+    X, y, _ = union([4, 4, 4], 100, rng)
+    labels = y.copy()
+    flip = rng.choice(300, 60, replace=False)
+    labels[flip] = (labels[flip] + 1) % 3
+    neighbors = sign_invariant_neighbors(X, 10)
+    refined, bases, n_iter, converged = refine_ksubspaces(
+        X,
+        labels,
+        3,
+        neighbors=neighbors,
+        smoothing=smoothing,
+        subspace_dim=4,
+        rank_tol=0.05,
+        max_iter=50,
+        random_state=np.random.RandomState(0),
+    )
+    assert converged and 1 <= n_iter < 50
+    assert len(bases) == 3
+    assert np.mean(refined != y) < 0.02
+
+
+def test_refinement_keeps_true_labels():
+    rng = np.random.RandomState(2)
+    X, y, _ = union([3, 3], 80, rng)
+    refined, _, n_iter, converged = refine_ksubspaces(
+        X,
+        y,
+        2,
+        neighbors=sign_invariant_neighbors(X, 10),
+        smoothing=5.0,
+        subspace_dim=3,
+        rank_tol=0.05,
+        max_iter=5,
+        random_state=np.random.RandomState(0),
+    )
+    assert_array_equal(refined, y)
+    assert converged and n_iter == 1
