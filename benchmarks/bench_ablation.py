@@ -49,20 +49,32 @@ CONFIGS = [
     ),
     (
         "polynomial normals, kNN graph, power 4",
-        {"affinity": "polynomial", "refine": False},
+        {"affinity": "polynomial", "refine": False, "init": "spectral"},
     ),
-    ("local normals, kNN graph, power 1", {"affinity_power": 1, "refine": False}),
-    ("local normals, kNN graph, power 4", {"refine": False}),
+    (
+        "local normals, kNN graph, power 1",
+        {"affinity_power": 1, "refine": False, "init": "spectral"},
+    ),
+    ("local normals, kNN graph, power 4", {"refine": False, "init": "spectral"}),
+    ("3 spectral inits, ncut selection, no refinement", {"refine": False}),
+    (
+        "single spectral init (previous default)",
+        {"init": "spectral"},
+    ),
     ("default without smoothing (plain K-subspaces)", {"smoothing": 0.0}),
-    ("default with smoothing=2", {"smoothing": 2.0}),
     ("default with smoothing=10", {"smoothing": 10.0}),
-    ("default with n_neighbors=20", {"n_neighbors": 20}),
     ("default with n_neighbors=40", {"n_neighbors": 40}),
+    ("default with n_init=3", {"n_init": 3}),
+    ("default with random_state=1", {"random_state": 1}),
     (
         "default with subspace_dim='auto', rank_tol=0.1",
         {"subspace_dim": "auto", "rank_tol": 0.1},
     ),
-    ("default (local normals, kNN power 4, smoothed K-subspaces)", {}),
+    (
+        "default (local normals, kNN power 4, 3 spectral inits, smoothed "
+        "K-subspaces, ncut selection)",
+        {},
+    ),
 ]
 
 
@@ -71,7 +83,7 @@ def run_one(bunch, config):
     threadpool_limits(1)
     pipeline = make_pipeline(
         PowerFactorization(random_state=0),
-        GPCAClustering(bunch.n_motions, random_state=0, **config),
+        GPCAClustering(bunch.n_motions, **{"random_state": 0, **config}),
     )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
