@@ -1,11 +1,41 @@
-"""Command line: ``python -m sklearn_gpca demo``."""
+"""Command line: ``python -m sklearn_gpca {demo,segment,benchmark}``.
+
+``demo`` segments synthetic trajectories; ``segment`` reads trajectories from a
+``.npz``, ``.csv`` or Hopkins155-style ``.mat`` file, segments them and writes
+the labels; ``benchmark hopkins155`` runs the Hopkins155 benchmark of
+``benchmarks/bench_hopkins155.py`` with a progress display. Mistakes in the
+input (missing file, unknown format, wrong shape) end with a one-line message
+on stderr and exit status 2.
+"""
 
 # SPDX-License-Identifier: BSD-3-Clause
 
 import argparse
+import csv
+import sys
 import time
+import warnings
+from pathlib import Path
 
 import numpy as np
+
+#: Candidate numbers of motions for ``--n-motions auto``.
+AUTO_N_MOTIONS = (2, 3, 4, 5)
+
+#: Least number of frames for a trajectory file.
+MIN_FRAMES = 3
+
+FORMATS = (".npz", ".csv", ".mat")
+
+
+class UsageError(Exception):
+    """A mistake in the user's input: reported on one line, exit status 2."""
+
+
+def _print_rows(rows):
+    width = max(len(name) for name, _ in rows)
+    for name, value in rows:
+        print(f"  {name:<{width}}  {value}")
 
 
 def _demo(args):
@@ -37,22 +67,370 @@ def _demo(args):
         "  make_pipeline(PowerFactorization(), "
         f"GPCAClustering(n_clusters={args.n_motions}))\n"
     )
-    rows = [
-        ("trajectories", f"{X.shape[0]}"),
-        ("frames", f"{X.shape[1] // 2}"),
-        ("motions", f"{args.n_motions}"),
-        ("noise", f"{args.noise:g} px"),
-        (
-            "missing entries",
-            f"{100 * np.isnan(X).mean():.1f} % ({args.missing_pattern})",
-        ),
-        ("misclassified", f"{100 * error:.2f} %"),
-        ("time", f"{seconds:.3f} s"),
-    ]
-    width = max(len(name) for name, _ in rows)
-    for name, value in rows:
-        print(f"  {name:<{width}}  {value}")
+    _print_rows(
+        [
+            ("trajectories", f"{X.shape[0]}"),
+            ("frames", f"{X.shape[1] // 2}"),
+            ("motions", f"{args.n_motions}"),
+            ("noise", f"{args.noise:g} px"),
+            (
+                "missing entries",
+                f"{100 * np.isnan(X).mean():.1f} % ({args.missing_pattern})",
+            ),
+            ("misclassified", f"{100 * error:.2f} %"),
+            ("time", f"{seconds:.3f} s"),
+        ]
+    )
     return 0
+
+
+# ---------------------------------------------------------------------------
+# Reading trajectory files
+
+
+def _read_npz(path):
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            if "X" not in data:
+                raise UsageError(
+                    f"{path}: no array 'X' in the .npz file (found "
+                    f"{', '.join(sorted(data.files)) or 'nothing'})"
+                )
+            X = data["X"]
+            y = data.get("y", None)
+    except (OSError, ValueError) as exc:
+        raise UsageError(f"{path}: cannot read as .npz ({exc})") from exc
+    return X, y
+
+
+def _is_number(cell):
+    cell = cell.strip()
+    if not cell:
+        return True
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
+
+
+def _read_csv(path):
+    """One trajectory per row; empty cells or NaN are missing.
+
+    An optional header row (any non-numeric cell) names the columns; a column
+    named ``y`` or ``label`` then holds the ground truth.
+    """
+    try:
+        with open(path, newline="") as f:
+            rows = [row for row in csv.reader(f) if any(c.strip() for c in row)]
+    except (OSError, UnicodeDecodeError) as exc:
+        raise UsageError(f"{path}: cannot read as .csv ({exc})") from exc
+    if not rows:
+        raise UsageError(f"{path}: the file holds no trajectories")
+    header = None
+    if not all(_is_number(cell) for cell in rows[0]):
+        header, rows = [c.strip() for c in rows[0]], rows[1:]
+    widths = {len(row) for row in rows}
+    if len(widths) > 1:
+        raise UsageError(
+            f"{path}: rows have different numbers of cells ({sorted(widths)})"
+        )
+    values = []
+    for i, row in enumerate(rows, start=2 if header else 1):
+        try:
+            values.append([float(c) if c.strip() else np.nan for c in row])
+        except ValueError as exc:
+            raise UsageError(f"{path}, line {i}: {exc}") from exc
+    X = np.array(values, dtype=np.float64).reshape(len(rows), -1)
+    y = None
+    if header is not None:
+        names = [h.lower() for h in header]
+        label = next((names.index(n) for n in ("y", "label") if n in names), None)
+        if label is not None:
+            y = X[:, label]
+            if np.isnan(y).any():
+                raise UsageError(f"{path}: column {header[label]!r} has empty cells")
+            X = np.delete(X, label, axis=1)
+    return X, y
+
+
+def _read_mat(path):
+    """Hopkins155 layout: ``x`` (else ``y``) of shape (3, P, F); ``s`` optional."""
+    import scipy.io
+
+    try:
+        data = scipy.io.loadmat(path)
+    except Exception as exc:  # scipy raises several types on bad files
+        raise UsageError(f"{path}: cannot read as .mat ({exc})") from exc
+    key = "x" if "x" in data else "y" if "y" in data else None
+    if key is None:
+        found = sorted(k for k in data if not k.startswith("__"))
+        raise UsageError(
+            f"{path}: no field 'x' or 'y' (3 x points x frames) in the .mat file "
+            f"(found {', '.join(found) or 'nothing'})"
+        )
+    points = np.asarray(data[key], dtype=np.float64)
+    if points.ndim != 3 or points.shape[0] not in (2, 3):
+        raise UsageError(
+            f"{path}: field {key!r} must have shape (3, points, frames), got "
+            f"{points.shape}"
+        )
+    _, n_points, n_frames = points.shape
+    X = points[:2].transpose(1, 2, 0).reshape(n_points, 2 * n_frames)
+    y = None
+    if "s" in data:
+        y = np.asarray(data["s"]).ravel()
+        if y.shape[0] != n_points:
+            raise UsageError(
+                f"{path}: field 's' holds {y.shape[0]} labels for {n_points} points"
+            )
+    return X, y
+
+
+def read_trajectories(path):
+    """Read ``X`` of shape (n_points, 2 * n_frames) and optional labels ``y``.
+
+    Raises
+    ------
+    UsageError
+        For a missing file, an unknown format or a wrong shape.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise UsageError(f"{path}: no such file")
+    if path.is_dir():
+        raise UsageError(f"{path}: is a directory, not a trajectory file")
+    suffix = path.suffix.lower()
+    readers = {".npz": _read_npz, ".csv": _read_csv, ".mat": _read_mat}
+    if suffix not in readers:
+        raise UsageError(
+            f"{path}: unknown format {suffix or '(no extension)'!r}; "
+            f"expected one of {', '.join(FORMATS)}"
+        )
+    X, y = readers[suffix](path)
+    X = np.asarray(X)
+    if X.dtype.kind not in "biuf":
+        raise UsageError(f"{path}: X must be numeric, got dtype {X.dtype}")
+    X = X.astype(np.float64)
+    if X.ndim != 2:
+        raise UsageError(
+            f"{path}: X must be 2-D (points x 2 * frames), got shape {X.shape}"
+        )
+    n_points, n_columns = X.shape
+    if n_columns % 2:
+        raise UsageError(
+            f"{path}: X has an odd number of columns ({n_columns}); rows must be "
+            "[x_1, y_1, ..., x_F, y_F]"
+        )
+    if n_columns // 2 < MIN_FRAMES:
+        raise UsageError(
+            f"{path}: {n_columns // 2} frames; at least {MIN_FRAMES} are needed"
+        )
+    if n_points < 2:
+        raise UsageError(f"{path}: {n_points} trajectories; at least 2 are needed")
+    if np.isinf(X).any():
+        raise UsageError(f"{path}: X holds infinite values")
+    if y is not None:
+        y = np.asarray(y).ravel()
+        if y.shape[0] != n_points:
+            raise UsageError(
+                f"{path}: y holds {y.shape[0]} labels for {n_points} points"
+            )
+    return X, y
+
+
+# ---------------------------------------------------------------------------
+# segment
+
+
+def _n_motions(value):
+    if value == "auto":
+        return value
+    try:
+        n = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"must be a positive integer or 'auto', got {value!r}"
+        ) from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {n}")
+    return n
+
+
+def _positive_int(value):
+    try:
+        n = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(
+            f"must be a positive integer, got {value!r}"
+        ) from None
+    if n < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {n}")
+    return n
+
+
+def _pipeline(n_motions, rank, random_state):
+    from sklearn.pipeline import make_pipeline
+
+    from sklearn_gpca import GPCAClustering, PowerFactorization
+
+    return make_pipeline(
+        PowerFactorization(rank, random_state=random_state),
+        GPCAClustering(n_motions, random_state=random_state),
+    )
+
+
+def _fit(X, n_motions, rank, random_state):
+    """Fitted pipeline and labels; ``n_motions="auto"`` picks the best score."""
+    if n_motions != "auto":
+        pipeline = _pipeline(n_motions, rank, random_state)
+        return pipeline, pipeline.fit_predict(X), {}
+    scores, best = {}, None
+    for n in AUTO_N_MOTIONS:
+        pipeline = _pipeline(n, rank, random_state)
+        try:
+            labels = pipeline.fit_predict(X)
+        except ValueError:  # too few points for this degree
+            continue
+        scores[n] = pipeline.score(X)
+        if best is None or scores[n] > scores[best[0]]:
+            best = (n, pipeline, labels)
+    if best is None:
+        raise UsageError(
+            f"{X.shape[0]} trajectories are too few to choose the number of "
+            "motions; pass --n-motions N"
+        )
+    return best[1], best[2], scores
+
+
+def _segment(args):
+    from sklearn_gpca.metrics import misclassification_rate
+
+    X, y = read_trajectories(args.file)
+    n_points, n_frames = X.shape[0], X.shape[1] // 2
+    if args.rank > X.shape[1]:
+        raise UsageError(
+            f"--rank {args.rank} exceeds 2 * frames = {X.shape[1]} for {args.file}"
+        )
+    start = time.perf_counter()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            pipeline, labels, scores = _fit(X, args.n_motions, args.rank, args.seed)
+    except ValueError as exc:
+        raise UsageError(f"{args.file}: {exc}") from exc
+    seconds = time.perf_counter() - start
+    n_motions = pipeline[-1].n_clusters
+
+    if args.output is not None:
+        try:
+            np.savetxt(args.output, labels, fmt="%d")
+        except OSError as exc:
+            raise UsageError(f"cannot write {args.output}: {exc}") from exc
+    if args.plot is not None:
+        _plot_segmentation(X, labels, y, args.plot)
+
+    print(
+        f"Segmenting {args.file}\n"
+        f"  make_pipeline(PowerFactorization(n_components={args.rank}), "
+        f"GPCAClustering(n_clusters={n_motions}))\n"
+    )
+    motions = f"{n_motions}"
+    if scores:
+        chosen = ", ".join(f"{n}: {s:.3f}" for n, s in scores.items())
+        motions += f" (auto, by GPCAClustering.score: {chosen})"
+    rows = [
+        ("trajectories", f"{n_points}"),
+        ("frames", f"{n_frames}"),
+        ("missing entries", f"{100 * np.isnan(X).mean():.1f} %"),
+        ("motions", motions),
+        ("sizes", " ".join(str(c) for c in np.bincount(labels, minlength=n_motions))),
+    ]
+    if y is not None:
+        error = misclassification_rate(y, labels)
+        rows.append(("misclassified", f"{100 * error:.2f} % (ground truth in file)"))
+    rows.append(("time", f"{seconds:.3f} s"))
+    if args.output is not None:
+        rows.append(("labels", f"{args.output}"))
+    if args.plot is not None:
+        rows.append(("plot", f"{args.plot}"))
+    _print_rows(rows)
+    return 0
+
+
+def _plot_segmentation(X, labels, y, path):
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+    except ImportError as exc:
+        raise UsageError(
+            "--plot requires matplotlib: pip install 'sklearn_gpca[plot]'"
+        ) from exc
+    import matplotlib.pyplot as plt
+
+    from sklearn_gpca.plotting import TrajectoryDisplay
+
+    display = TrajectoryDisplay.from_predictions(X, labels, y_true=y)
+    try:
+        display.figure_.savefig(path, dpi=120, bbox_inches="tight")
+    except (OSError, ValueError) as exc:
+        raise UsageError(f"cannot write {path}: {exc}") from exc
+    finally:
+        plt.close(display.figure_)
+
+
+# ---------------------------------------------------------------------------
+# benchmark
+
+
+class _Progress:
+    """``[####......]  40/930 fits  4 %  12 s`` on stderr, redrawn in place."""
+
+    def __init__(self, stream=None, width=30):
+        self.stream = sys.stderr if stream is None else stream
+        self.width = width
+        self.start = None
+
+    def __call__(self, done, total):
+        if self.start is None:
+            self.start = time.perf_counter()
+        elapsed = time.perf_counter() - self.start
+        filled = self.width * done // max(total, 1)
+        bar = "#" * filled + "." * (self.width - filled)
+        line = f"\r  [{bar}] {done:>{len(str(total))}}/{total} fits {elapsed:4.0f} s"
+        if done < total and done:
+            line += f", about {elapsed * (total - done) / done:.0f} s left  "
+        else:
+            line += " " * 20
+        print(line, end="", file=self.stream, flush=True)
+        if done == total:
+            print(file=self.stream)
+            self.start = None
+
+
+def _benchmark(args):
+    from sklearn_gpca._benchmark import run_hopkins155
+
+    if args.data_home is not None and not Path(args.data_home).is_dir():
+        raise UsageError(f"{args.data_home}: no such directory")
+    command = " ".join(["python -m sklearn_gpca benchmark hopkins155", *args.argv])
+    try:
+        run_hopkins155(
+            args.data_home,
+            args.output_dir,
+            command=command,
+            jobs=args.jobs,
+            seed=args.seed,
+            missing=args.missing,
+            progress=_Progress(),
+        )
+    except FileNotFoundError as exc:
+        raise UsageError(str(exc)) from exc
+    return 0
+
+
+# ---------------------------------------------------------------------------
 
 
 def build_parser():
@@ -74,10 +452,87 @@ def build_parser():
     )
     demo.add_argument("--random-state", type=int, default=0)
     demo.set_defaults(run=_demo)
+
+    segment = commands.add_parser(
+        "segment",
+        help="segment the trajectories of a .npz, .csv or .mat file",
+        description=(
+            "Segment trajectories into rigid motions with make_pipeline("
+            "PowerFactorization(R), GPCAClustering(N)). FILE is a .npz (array X "
+            "of shape (points, 2 * frames), optional labels y), a .csv (one "
+            "trajectory x_1, y_1, ..., x_F, y_F per row; empty cells or NaN for "
+            "missing; an optional header row may name a label column y) or a "
+            "Hopkins155-style .mat (field x, else y, of shape 3 x points x "
+            "frames; optional labels s)."
+        ),
+    )
+    segment.add_argument("file", metavar="FILE", help="trajectory file")
+    segment.add_argument(
+        "--n-motions",
+        type=_n_motions,
+        required=True,
+        metavar="N",
+        help="number of motions, or 'auto' to choose among 2..5 by "
+        "GPCAClustering.score",
+    )
+    segment.add_argument(
+        "--rank",
+        type=_positive_int,
+        default=5,
+        metavar="R",
+        help="dimension of the projection (default: 5, as in the paper)",
+    )
+    segment.add_argument(
+        "--output", metavar="LABELS", help="write one label per line to this file"
+    )
+    segment.add_argument(
+        "--plot", metavar="PNG", help="draw the segmented trajectories to this image"
+    )
+    segment.add_argument("--seed", type=int, default=0, help="random_state")
+    segment.set_defaults(run=_segment)
+
+    benchmark = commands.add_parser(
+        "benchmark",
+        help="run a benchmark (hopkins155)",
+        description=(
+            "Misclassification on Hopkins155 beside the published methods, as "
+            "benchmarks/bench_hopkins155.py; writes hopkins155.md, "
+            "hopkins155_missing.md and their CSV files to --output-dir."
+        ),
+    )
+    benchmark.add_argument("name", choices=["hopkins155"])
+    benchmark.add_argument(
+        "--data-home",
+        metavar="DIR",
+        help="Hopkins155 folder (default: $SKLEARN_GPCA_DATA/hopkins155)",
+    )
+    benchmark.add_argument("--jobs", type=_positive_int, default=2, metavar="J")
+    benchmark.add_argument("--seed", type=int, default=0)
+    benchmark.add_argument(
+        "--missing",
+        type=float,
+        nargs="*",
+        default=[0.0, 0.1, 0.2, 0.3, 0.4, 0.5],
+        help="occlusion fractions for the two-motion sequences (none to skip)",
+    )
+    benchmark.add_argument(
+        "--output-dir",
+        type=Path,
+        default=Path("."),
+        metavar="DIR",
+        help="where to write the tables (default: current directory)",
+    )
+    benchmark.set_defaults(run=_benchmark)
     return parser
 
 
 def main(argv=None):
     """Run the command line; return the exit status."""
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
-    return args.run(args)
+    args.argv = argv[2:] if args.command == "benchmark" else argv
+    try:
+        return args.run(args)
+    except UsageError as exc:
+        print(f"python -m sklearn_gpca {args.command}: error: {exc}", file=sys.stderr)
+        return 2
