@@ -237,3 +237,11 @@ def test_error_curve_from_estimator_parameter():
 def test_error_curve_shape_error():
     with pytest.raises(ValueError, match="errors must have shape"):
         ErrorCurveDisplay([0, 1, 2], [0.1, 0.2]).plot()
+
+
+def test_trajectory_display_on_shared_axes(motions):
+    X, y = motions
+    _, axes = plt.subplots(1, 2, sharex=True, sharey=True)
+    for ax in axes:
+        TrajectoryDisplay(X, y).plot(ax=ax)
+    assert axes[0].get_aspect() == 1.0

@@ -173,7 +173,11 @@ class TrajectoryDisplay:
                 label=f"misclassified ({wrong.shape[0]})",
             )
         ax.autoscale_view()
-        ax.set_aspect("equal", adjustable="datalim")
+        shared = any(
+            len(group.get_siblings(ax)) > 1
+            for group in (ax.get_shared_x_axes(), ax.get_shared_y_axes())
+        )
+        ax.set_aspect("equal", adjustable="box" if shared else "datalim")
         if invert_yaxis and not ax.yaxis_inverted():
             ax.invert_yaxis()
         ax.set_xlabel("x")
