@@ -20,6 +20,10 @@ from sklearn.utils.validation import check_is_fitted, validate_data
 
 from sklearn_gpca import _als, _varpro
 from sklearn_gpca._als import squared_residual
+from sklearn_gpca._completion_rank import (
+    max_completion_rank,
+    select_completion_rank,
+)
 from sklearn_gpca._least_squares import fit_rows
 from sklearn_gpca._missing import describe_indices, masked_to_nan
 
@@ -174,6 +178,11 @@ class PowerFactorization(
         "n_components": [Interval(Integral, 1, None, closed="left")],
         "whiten": ["boolean"],
         "solver": [StrOptions({"varpro", "als"})],
+        "completion_rank": [
+            Interval(Integral, 1, None, closed="left"),
+            StrOptions({"auto"}),
+            None,
+        ],
         "n_init": [Interval(Integral, 1, None, closed="left")],
         "max_iter": [Interval(Integral, 1, None, closed="left")],
         "tol": [Interval(Real, 0, None, closed="left")],
@@ -187,6 +196,7 @@ class PowerFactorization(
         *,
         whiten=True,
         solver="varpro",
+        completion_rank="auto",
         n_init=10,
         max_iter=500,
         tol=1e-7,
@@ -196,6 +206,7 @@ class PowerFactorization(
         self.n_components = n_components
         self.whiten = whiten
         self.solver = solver
+        self.completion_rank = completion_rank
         self.n_init = n_init
         self.max_iter = max_iter
         self.tol = tol
@@ -245,19 +256,25 @@ class PowerFactorization(
         if self.solver == "als":
             solve = _als.power_factorization
         random_state = check_random_state(self.random_state)
-        total = np.einsum("ij,ij->", X0, X0)
+        rank, self.completion_errors_ = self._choose_rank(X0, mask, random_state)
+        # Rows observed in fewer than `rank` entries cannot inform a rank-q
+        # basis; they are projected afterwards at the rank they support.
+        fitted_rows = slice(None) if mask is None else mask.sum(axis=1) >= rank
+        X_fit = X0[fitted_rows]
+        mask_fit = None if mask is None else mask[fitted_rows]
+        total = np.einsum("ij,ij->", X_fit, X_fit)
         best, best_residual, n_best = None, np.inf, 0
         for n_init in range(1, self.n_init + 1):
             fit = solve(
-                X0,
-                mask,
-                self.n_components,
+                X_fit,
+                mask_fit,
+                rank,
                 max_iter=self.max_iter,
                 tol=self.tol,
                 random_state=random_state,
                 log=self._log,
             )
-            residual = squared_residual(X0, mask, fit[0], fit[1], total)
+            residual = squared_residual(X_fit, mask_fit, fit[0], fit[1], total)
             # two fits agree to 1e-4 relative (or both fit to round-off)
             margin = 1e-4 * min(residual, best_residual) + 1e-20 * total
             if residual < best_residual - margin:
@@ -279,15 +296,21 @@ class PowerFactorization(
                 ConvergenceWarning,
                 stacklevel=2,
             )
-        n_observed = X0.size if mask is None else mask.sum()
-        self.reconstruction_err_ = float(np.sqrt(best_residual / n_observed))
-
         # B has orthonormal columns, so the SVD of the fit B A^T is B u s vt
-        # with u s vt the SVD of the small r x n_features matrix A^T.
+        # with u s vt the SVD of the small rank x n_features matrix A^T.
         u, s, vt = np.linalg.svd(A.T, full_matrices=False)
         u, vt = svd_flip(u, vt, u_based_decision=False)
-        self.components_ = vt.astype(X.dtype, copy=False)
-        self.singular_values_ = s.astype(X.dtype, copy=False)
+        self.completion_rank_ = rank
+        self.completion_components_ = vt.astype(X.dtype, copy=False)
+        self.completion_singular_values_ = s.astype(X.dtype, copy=False)
+        self.components_ = self.completion_components_[: self.n_components]
+        self.singular_values_ = self.completion_singular_values_[: self.n_components]
+
+        residual = X0 - self._coordinates(X0, mask) @ self._completion_basis()
+        if mask is not None:
+            residual *= mask
+        n_observed = X0.size if mask is None else mask.sum()
+        self.reconstruction_err_ = float(np.sqrt(np.sum(residual**2) / n_observed))
         return self
 
     def transform(self, X):
@@ -315,8 +338,8 @@ class PowerFactorization(
         X0, mask = _zero_filled(X)
         if mask is not None:
             self._check_observed(mask, axis=1, what="row")
-        basis = self._basis().astype(np.float64)
-        return fit_rows(X0, mask, basis).astype(X.dtype, copy=False)
+        Z = self._coordinates(X0, mask)[:, : self.n_components]
+        return Z.astype(X.dtype, copy=False)
 
     def inverse_transform(self, X):
         """Complete trajectories from their coordinates.
@@ -344,6 +367,47 @@ class PowerFactorization(
         tags.input_tags.allow_nan = True
         tags.transformer_tags.preserves_dtype = ["float64", "float32"]
         return tags
+
+    def _choose_rank(self, X0, mask, random_state):
+        """Completion rank and the held-out errors that chose it."""
+        if self.completion_rank is None:
+            return self.n_components, {}
+        if mask is None:
+            if self.completion_rank == "auto":
+                return self.n_components, {}
+            return min(max(self.completion_rank, self.n_components), *X0.shape), {}
+        limit = 3 * self.n_components
+        if self.completion_rank != "auto":
+            limit = max(self.completion_rank, self.n_components)
+        limit = max_completion_rank(mask, self.n_components, limit)
+        if self.completion_rank != "auto":
+            return limit, {}
+        return select_completion_rank(X0, mask, self.n_components, limit, random_state)
+
+    def _completion_basis(self):
+        """Rows map rank-q coordinates to trajectories."""
+        basis = self.completion_components_.astype(np.float64)
+        if self.whiten:
+            return self.completion_singular_values_[:, None] * basis
+        return basis
+
+    def _coordinates(self, X0, mask):
+        """Rank-q least-squares coordinates of every row.
+
+        A row observed in ``k < q`` entries gets the coordinates of the
+        leading ``k`` directions (and zeros beyond): the most its entries
+        determine.
+        """
+        basis = self._completion_basis()
+        if mask is None:
+            return fit_rows(X0, None, basis)
+        rank = basis.shape[0]
+        supported = np.minimum(mask.sum(axis=1), rank).astype(int)
+        Z = np.zeros((X0.shape[0], rank))
+        for k in np.unique(supported):
+            rows = supported == k
+            Z[rows, :k] = fit_rows(X0[rows], mask[rows], basis[:k])
+        return Z
 
     def _basis(self):
         """Rows map coordinates to trajectories: ``X ~ Z @ basis``."""
