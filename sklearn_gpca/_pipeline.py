@@ -31,7 +31,9 @@ def paper_pipeline(n_clusters, *, random_state=None):
     -------
     pipeline : sklearn.pipeline.Pipeline
         ``make_pipeline(PowerFactorization(5, ...), GPCAClustering(...))`` with
-        the paper's GPCA pinned: raw (not normalised) points, one polynomial's
+        the paper's PowerFactorization pinned (alternating least squares from
+        one random start, at rank 5: ``solver="als", completion_rank=None,
+        n_init=1``) and the paper's GPCA pinned: raw (not normalised) points, one polynomial's
         gradients, the dense ``cos^2`` kernel and no refinement
         (``normalize=False, affinity="polynomial", n_neighbors=None,
         affinity_power=1, refine=False``).
@@ -46,7 +48,14 @@ def paper_pipeline(n_clusters, *, random_state=None):
     (100,)
     """
     return make_pipeline(
-        PowerFactorization(5, whiten=True, random_state=random_state),
+        PowerFactorization(
+            5,
+            whiten=True,
+            solver="als",
+            completion_rank=None,
+            n_init=1,
+            random_state=random_state,
+        ),
         GPCAClustering(
             n_clusters,
             normalize=False,
