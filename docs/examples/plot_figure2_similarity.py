@@ -32,7 +32,6 @@ for ax, rank in zip(axes[:3], (4, 6, 8), strict=True):
         Q, y, ax=ax, colorbar=False, title=f"|Q|, rank {rank}"
     )
 
-# %%
 # The paper's GPCA: normals from the gradient of the fitted polynomial.
 Z = PowerFactorization(random_state=0).fit_transform(X)
 gpca = GPCAClustering(

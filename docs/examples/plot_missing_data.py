@@ -24,7 +24,7 @@ from sklearn_gpca import GPCAClustering, PowerFactorization, paper_pipeline
 from sklearn_gpca.datasets import make_motions
 from sklearn_gpca.plotting import ErrorCurveDisplay
 
-X, y = make_motions(2, n_points=[80, 80], n_frames=10, noise=1.0, random_state=0)
+X, y = make_motions(2, n_points=[60, 60], n_frames=8, noise=1.0, random_state=0)
 fractions = [0.0, 0.1, 0.2, 0.3, 0.4]
 
 models = {
@@ -53,5 +53,5 @@ with warnings.catch_warnings():
             ax=ax,
         )
         print(f"{name}: {display.errors.mean(axis=1).round(3)}")
-ax.set_title("Two motions, 160 tracks, 10 frames, occlusions")
+ax.set_title("Two motions, 120 tracks, 8 frames, occlusions")
 plt.show()
