@@ -10,19 +10,37 @@ Zach & Fitzgibbon (CVPR 2017). Same calling convention as
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import itertools
+
 import numpy as np
+from scipy import linalg, sparse
 
 from sklearn_gpca import _als
-from sklearn_gpca._least_squares import _RIDGE, fit_rows
+from sklearn_gpca._least_squares import _RIDGE
 
-# Floats per temporary of shape (rows in a chunk, n_features, n_features):
-# 2**22 float64 are 32 MiB, whatever the number of rows.
+# Floats per temporary of shape (rows in a chunk, n_features, n_features) in
+# the dense accumulation of J^T J: 2**22 float64 are 32 MiB, whatever the
+# number of rows.
 _CHUNK_FLOATS = 2**22
+# Pairs of observed entries of a row per chunk in the sparse accumulation,
+# and the most pairs whose indices are kept from one iteration to the next.
+_CHUNK_PAIRS = 2**19
+_CACHED_PAIRS = 2**22
+# The sparse accumulation is used when the pairs of observed entries in a
+# row are fewer than this fraction of all pairs of columns.
+_SPARSE_DENSITY = 0.3
 
-# Levenberg-Marquardt damping, relative to the mean diagonal of J^T J.
-# It starts large, so that the first steps from a random start are short
-# gradient steps rather than wild Gauss-Newton jumps.
-_LAMBDA_START = 1e2
+# Levenberg-Marquardt damping lambda * I, relative to the mean diagonal of
+# J^T J, divided by 10 after a successful step and multiplied by 10 after a
+# failed one, as in Hong & Fitzgibbon's DRW2P (whose absolute 1e-4 is nearly
+# undamped Gauss-Newton on pixel data). The starting value makes little
+# difference to where a start ends (4/10 on Dino_trimmed from 1e2 to 1e-12).
+_LAMBDA_START = 1e-4
+# Random starts raced for _RACE_STEPS accepted steps, the best one pursued;
+# no race when max_iter < _RACE_MIN_ITER.
+_RACE = 4
+_RACE_STEPS = 20
+_RACE_MIN_ITER = 100
 _LAMBDA_MIN = 1e-15
 _LAMBDA_MAX = 1e16
 
@@ -33,10 +51,18 @@ def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, 
     For a basis ``A`` of the feature space, the coordinates of every row are
     the least-squares solution over its observed entries, so the squared
     residual is a function ``f(A)`` of ``A`` alone (in fact of its span). It
-    is minimised by Levenberg-Marquardt with the Ruhe-Wedin / Wiberg
+    is minimised by Levenberg-Marquardt with the Ruhe-Wedin (RW2)
     approximation of the Jacobian of the reduced residual, steps restricted
     to the orthogonal complement of the gauge directions ``A K`` and ``A``
-    re-orthonormalised (retracted) after every step.
+    re-orthonormalised (retracted) after every step: Hong & Fitzgibbon's
+    DRW2P.
+
+    From a random start the iteration ends in a poor local minimum more
+    often than not on real tracks (about 6 starts in 10 on Dino_trimmed).
+    Those starts are told apart early: after ``_RACE_STEPS`` accepted steps
+    their residual is well above that of starts heading for the optimum. So
+    ``_RACE`` random starts are run for that many steps and only the one with
+    the lowest residual is pursued (when ``max_iter`` leaves room for it).
 
     Parameters
     ----------
@@ -48,8 +74,10 @@ def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, 
         optimum is then the truncated SVD and there is nothing to gain).
     n_components : int
     max_iter : int
-        Maximum number of Levenberg-Marquardt trials, accepted or not; each
-        costs one evaluation of the residual, like one ALS iteration.
+        Maximum number of Levenberg-Marquardt trials, accepted or not, of
+        the returned start; each costs one evaluation of the residual, like
+        one ALS iteration. The starts dropped after the race are not
+        counted.
     tol : float
         Stop when an accepted step decreases the squared residual by less
         than ``tol`` times its value.
@@ -76,136 +104,239 @@ def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, 
             log=log,
         )
     n_features = X0.shape[1]
-    V, _ = np.linalg.qr(random_state.standard_normal((n_features, n_components)))
-    total = np.einsum("ij,ij->", X0, X0)
-    U, cost = _project(X0, mask, V)
-    converged = False
-    damping = None
-    hessian = None
-    n_iter = 0
-    for n_iter in range(1, max_iter + 1):
-        if hessian is None:
-            hessian, gradient = _normal_equations(X0, mask, V, U)
-            scale = max(np.trace(hessian) / hessian.shape[0], np.finfo(float).tiny)
-            if damping is None:
-                damping = _LAMBDA_START
-        step = _damped_step(hessian, gradient, V, damping * scale)
-        if step is not None:
-            V_new, _ = np.linalg.qr(V + step)
-            U_new, cost_new = _project(X0, mask, V_new)
-        if step is not None and cost_new < cost:
-            log(
-                f"iteration {n_iter}, squared residual {cost_new:.6g}, "
-                f"damping {damping:.1e}"
-            )
-            stalled = cost - cost_new <= tol * cost
-            V, U, cost = V_new, U_new, cost_new
-            hessian = None
-            damping = max(damping / 10, _LAMBDA_MIN)
-            if stalled or cost <= 1e-28 * total:
-                converged = True
-                break
-        else:
-            log(f"iteration {n_iter}, step rejected, damping {damping:.1e}")
-            damping *= 10
-            if damping > _LAMBDA_MAX:
-                # No descent direction left at machine precision: a
-                # stationary point.
-                converged = True
-                break
-    else:
-        converged = cost <= 1e-28 * total
+    layout = _Layout(mask, n_components)
+    n_race = _RACE if max_iter >= _RACE_MIN_ITER else 1
+    starts = []
+    for k in range(n_race):
+        V, _ = np.linalg.qr(random_state.standard_normal((n_features, n_components)))
+        start = _Start(X0, mask, V, layout, tol, log)
+        if n_race > 1:
+            log(f"race, start {k + 1} of {n_race}")
+            start.run(max_iter, max_accepted=_RACE_STEPS)
+        starts.append(start)
+    best = min(starts, key=lambda start: start.cost)
+    if n_race > 1:
+        log(f"race won by start {starts.index(best) + 1}")
+    best.run(max_iter)
+    return best.result()
 
-    # X ~ U V^T = Q (V R^T)^T with U = Q R.
-    B, R = np.linalg.qr(U)
-    return B, V @ R.T, n_iter, converged
+
+class _Start:
+    """Levenberg-Marquardt iterations from one starting basis."""
+
+    def __init__(self, X0, mask, V, layout, tol, log):
+        self.X0, self.mask, self.layout, self.tol, self.log = X0, mask, layout, tol, log
+        self.V = V
+        self.U, self.inv_gram, self.cost = _project(X0, mask, V)
+        self.total = np.einsum("ij,ij->", X0, X0)
+        self.damping = _LAMBDA_START
+        self.system = None
+        self.n_iter = 0
+        self.done = False
+        self.converged = False
+
+    def run(self, max_iter, max_accepted=None):
+        n_features, r = self.V.shape
+        diagonal = np.arange(n_features * r)
+        accepted = 0
+        while not self.done and self.n_iter < max_iter:
+            if max_accepted is not None and accepted >= max_accepted:
+                return
+            self.n_iter += 1
+            V = self.V
+            if self.system is None:
+                hessian, self.gradient = self.layout.normal_equations(
+                    self.X0, V, self.U, self.inv_gram
+                )
+                self.scale = max(
+                    np.trace(hessian) / hessian.shape[0], np.finfo(float).tiny
+                )
+                # Projection constraint: J^T J vanishes on the gauge
+                # directions V K; adding (V V^T) kron I makes the system
+                # definite there and leaves the step orthogonal to them.
+                hessian4 = hessian.reshape(n_features, r, n_features, r)
+                hessian4 += self.scale * (
+                    (V @ V.T)[:, None, :, None] * np.eye(r)[None, :, None, :]
+                )
+                self.system = hessian
+            system = self.system.copy()
+            system[diagonal, diagonal] += self.damping * self.scale
+            step = _solve(system, self.gradient)
+            if step is not None:
+                step = step.reshape(n_features, r)
+                step -= V @ (V.T @ step)  # round-off along span(V)
+                V_new, _ = np.linalg.qr(V + step)
+                U_new, inv_new, cost_new = _project(self.X0, self.mask, V_new)
+            if step is not None and cost_new < self.cost:
+                self.log(
+                    f"iteration {self.n_iter}, squared residual {cost_new:.6g}, "
+                    f"damping {self.damping:.1e}"
+                )
+                accepted += 1
+                stalled = self.cost - cost_new <= self.tol * self.cost
+                self.V, self.U = V_new, U_new
+                self.inv_gram, self.cost = inv_new, cost_new
+                self.system = None
+                self.damping = max(self.damping / 10, _LAMBDA_MIN)
+                if stalled or self.cost <= 1e-28 * self.total:
+                    self.done = self.converged = True
+            else:
+                self.log(
+                    f"iteration {self.n_iter}, step rejected, "
+                    f"damping {self.damping:.1e}"
+                )
+                self.damping *= 10
+                if self.damping > _LAMBDA_MAX:
+                    # no descent direction left at machine precision: a
+                    # stationary point
+                    self.done = self.converged = True
+        if not self.done:
+            self.converged = self.cost <= 1e-28 * self.total
+
+    def result(self):
+        # X ~ U V^T = Q (V R^T)^T with U = Q R.
+        B, R = np.linalg.qr(self.U)
+        return B, self.V @ R.T, self.n_iter, self.converged
+
+
+def _solve(system, gradient):
+    try:
+        factor = linalg.cho_factor(system, check_finite=False)
+        step = linalg.cho_solve(factor, gradient.reshape(-1), check_finite=False)
+    except (np.linalg.LinAlgError, ValueError):
+        return None
+    if not np.all(np.isfinite(step)):
+        return None
+    return step
 
 
 def _project(X0, mask, V):
-    """Coordinates of every row in the basis ``V`` and the squared residual."""
-    U = fit_rows(X0, mask, V.T)
-    return U, _als.squared_residual(X0, mask, U, V, None)
+    """Coordinates of every row in the basis ``V``, the inverses of the
+    per-row Gram matrices ``V^T diag(m_i) V`` and the squared residual."""
+    r = V.shape[1]
+    outer = (V.T[:, None, :] * V.T[None, :, :]).reshape(r * r, -1)
+    gram = (mask @ outer.T).reshape(-1, r, r)
+    ridge = _RIDGE * np.trace(gram, axis1=1, axis2=2) / r + np.finfo(float).tiny
+    gram[:, np.arange(r), np.arange(r)] += ridge[:, None]
+    inv_gram = np.linalg.inv(gram)
+    U = np.einsum("ikl,il->ik", inv_gram, X0 @ V)
+    residual = X0 - U @ V.T
+    residual *= mask
+    return U, inv_gram, np.einsum("ij,ij->", residual, residual)
+
+
+class _Layout:
+    """Accumulation of ``J^T J`` over the observed entries.
+
+    Row ``i`` has residual ``e_i = P_i x_i`` with ``P_i`` the projector on
+    the orthogonal complement of ``diag(m_i) V`` among its observed entries,
+    ``P_i = diag(m_i) - diag(m_i) V G_i^{-1} V^T diag(m_i)``. Its Ruhe-Wedin
+    (RW2) Jacobian with respect to ``V`` is ``-P_i (u_i^T kron I)``, so
+
+    ``J^T J = sum_i (u_i u_i^T) kron P_i``, ``-J^T e = E^T U``.
+
+    The identity part of ``P_i`` gives the block diagonal
+    ``sum_i m_ij u_i u_i^T``; the other part is nonzero only for pairs
+    ``(j, l)`` of columns both observed in row ``i``. With sparse masks
+    (tracks seen in a few frames) these pairs are far fewer than
+    ``n_samples * n_features**2`` and are summed as a sparse product.
+    """
+
+    def __init__(self, mask, r):
+        self.mask = mask
+        self.r = r
+        n_samples, n_features = mask.shape
+        counts = mask.sum(axis=1).astype(np.int64)
+        pairs = counts * (counts + 1) // 2
+        self.sparse = pairs.sum() < _SPARSE_DENSITY * n_samples * n_features**2 / 2
+        self.chunks = []
+        if self.sparse:
+            bounds = [0]
+            cumulative = np.cumsum(pairs)
+            while bounds[-1] < n_samples:
+                done = cumulative[bounds[-1] - 1] if bounds[-1] else 0
+                stop = np.searchsorted(cumulative, done + _CHUNK_PAIRS, side="right")
+                bounds.append(min(max(stop, bounds[-1] + 1), n_samples))
+            self.chunks = [
+                slice(a, b) for a, b in itertools.pairwise(bounds)
+            ]
+            self.cache = {} if pairs.sum() <= _CACHED_PAIRS else None
+
+    def _pairs(self, k):
+        if self.cache is not None and k in self.cache:
+            return self.cache[k]
+        rows_slice = self.chunks[k]
+        m = self.mask[rows_slice]
+        n_features = m.shape[1]
+        rows, cols = np.nonzero(m)
+        counts = np.bincount(rows, minlength=m.shape[0])
+        starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
+        # entry e pairs with the entries of its row at or after it
+        later = (starts + counts)[rows] - np.arange(rows.size)
+        first = np.repeat(np.arange(rows.size), later)
+        offsets = np.arange(first.size) - np.repeat(np.cumsum(later) - later, later)
+        second = first + offsets
+        key = cols[first] * n_features + cols[second]
+        product = sparse.coo_matrix(
+            (np.arange(1.0, first.size + 1), (key, rows[first])),
+            shape=(n_features * n_features, m.shape[0]),
+        ).tocsr()
+        # the CSR arrays hold the pairs in another order: find it once
+        order = product.data.astype(np.intp) - 1
+        result = (rows, cols, first[order], second[order], product)
+        if self.cache is not None:
+            self.cache[k] = result
+        return result
+
+    def normal_equations(self, X0, V, U, inv_gram):
+        """``J^T J`` indexed by ``j * r + k`` for ``V[j, k]``, and ``-J^T e``."""
+        n_samples, n_features = X0.shape
+        r = self.r
+        UU = (U[:, :, None] * U[:, None, :]).reshape(n_samples, r * r)
+        if self.sparse:
+            upper = np.zeros((n_features * n_features, r * r))
+            for k, rows_slice in enumerate(self.chunks):
+                rows, cols, first, second, product = self._pairs(k)
+                rows = rows + rows_slice.start
+                # K_i[j, l] = y_j^T G_i^{-1} y_l for the rows y_j of V observed
+                # in row i, one value per pair (first, second) of entries
+                Y = V[cols]
+                Z = np.einsum("ea,eab->be", Y, inv_gram[rows])
+                Y = Y.T.copy()
+                data = Z[0][first] * Y[0][second]
+                for a in range(1, r):
+                    data += Z[a][first] * Y[a][second]
+                product.data = -data
+                upper += product @ UU[rows_slice]
+            upper = upper.reshape(n_features, n_features, r * r)
+            hessian4 = upper + upper.transpose(1, 0, 2)
+            idx = np.arange(n_features)
+            hessian4[idx, idx] -= upper[idx, idx]
+        else:
+            hessian4 = np.zeros((n_features, n_features, r * r))
+            for rows in _chunks(n_samples, n_features):
+                m = self.mask[rows]
+                VC = np.einsum("jk,ikl->ijl", V, inv_gram[rows])
+                K = VC @ V.T
+                K *= m[:, :, None]
+                K *= m[:, None, :]
+                hessian4 -= (K.reshape(K.shape[0], -1).T @ UU[rows]).reshape(
+                    hessian4.shape
+                )
+        idx = np.arange(n_features)
+        hessian4[idx, idx] += self.mask.T @ UU
+        hessian = (
+            hessian4.reshape(n_features, n_features, r, r)
+            .transpose(0, 2, 1, 3)
+            .reshape(n_features * r, n_features * r)
+        )
+        residual = X0 - U @ V.T
+        residual *= self.mask
+        gradient = residual.T @ U
+        return hessian, gradient
 
 
 def _chunks(n_samples, n_features):
     size = max(1, _CHUNK_FLOATS // (n_features * n_features))
     for start in range(0, n_samples, size):
         yield slice(start, min(start + size, n_samples))
-
-
-def _normal_equations(X0, mask, V, U):
-    """Gauss-Newton matrix ``J^T J`` and ``-J^T e`` of the reduced residual.
-
-    Row ``i`` has residual ``e_i = P_i x_i`` with ``P_i`` the projector on
-    the orthogonal complement of ``diag(m_i) V`` among its observed entries,
-    ``P_i = diag(m_i) - diag(m_i) V G_i^{-1} V^T diag(m_i)`` and
-    ``G_i = V^T diag(m_i) V``. Its Ruhe-Wedin (Wiberg) Jacobian with respect
-    to ``V`` is ``-P_i (u_i^T kron I)``, so
-
-    ``J^T J = sum_i (u_i u_i^T) kron P_i``, ``-J^T e = E^T U``,
-
-    the latter being minus the exact gradient of ``f / 2``. Both are sums over
-    rows, accumulated over chunks of rows: the Jacobian itself, with one row
-    per observed entry, is never formed.
-
-    Returns
-    -------
-    hessian : ndarray of shape (n_features * n_components,) * 2
-        Indexed by ``j * n_components + k`` for ``V[j, k]``.
-    gradient : ndarray of shape (n_features, n_components)
-    """
-    n_samples, n_features = X0.shape
-    r = V.shape[1]
-    UU = (U[:, :, None] * U[:, None, :]).reshape(n_samples, r * r)
-    # hessian4[j, l, k, m] = sum_i P_i[j, l] u_ik u_im
-    hessian4 = np.zeros((n_features, n_features, r * r))
-    outer = (V.T[:, None, :] * V.T[None, :, :]).reshape(r * r, n_features)
-    for rows in _chunks(n_samples, n_features):
-        m = mask[rows]
-        gram = (m @ outer.T).reshape(-1, r, r)
-        damping = _RIDGE * np.trace(gram, axis1=1, axis2=2) / r + np.finfo(float).tiny
-        gram[:, np.arange(r), np.arange(r)] += damping[:, None]
-        # V G_i^{-1}, shape (chunk, n_features, r)
-        VC = np.linalg.solve(gram, np.broadcast_to(V.T, (gram.shape[0], r, n_features)))
-        VC = VC.transpose(0, 2, 1)
-        K = VC @ V.T
-        K *= m[:, :, None]
-        K *= m[:, None, :]
-        hessian4 -= (K.reshape(K.shape[0], -1).T @ UU[rows]).reshape(hessian4.shape)
-    diagonal = mask.T @ UU  # sum_i m_ij u_ik u_im, shape (n_features, r * r)
-    idx = np.arange(n_features)
-    hessian4[idx, idx] += diagonal
-    hessian = (
-        hessian4.reshape(n_features, n_features, r, r)
-        .transpose(0, 2, 1, 3)
-        .reshape(n_features * r, n_features * r)
-    )
-    residual = X0 - U @ V.T
-    residual *= mask
-    gradient = residual.T @ U
-    return hessian, gradient
-
-
-def _damped_step(hessian, gradient, V, damping):
-    """Levenberg-Marquardt step, orthogonal to the gauge directions ``V K``.
-
-    The reduced residual depends on ``V`` only through its span, so
-    ``J^T J`` vanishes on ``{V K}``; adding the projector ``(V V^T) kron I``
-    onto those directions (Hong & Fitzgibbon's projection constraint) makes
-    the system definite there and the step has no component along them.
-    Returns None if the system cannot be solved.
-    """
-    n_features, r = V.shape
-    scale = np.trace(hessian) / hessian.shape[0]
-    system = hessian + damping * np.eye(n_features * r)
-    gauge = np.kron(V @ V.T, np.eye(r))
-    system += max(scale, np.finfo(float).tiny) * gauge
-    try:
-        step = np.linalg.solve(system, gradient.reshape(-1))
-    except np.linalg.LinAlgError:
-        return None
-    if not np.all(np.isfinite(step)):
-        return None
-    step = step.reshape(n_features, r)
-    # remove any round-off component along span(V)
-    return step - V @ (V.T @ step)
