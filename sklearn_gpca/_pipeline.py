@@ -33,8 +33,8 @@ def paper_pipeline(n_clusters, *, random_state=None):
         ``make_pipeline(PowerFactorization(5, ...), GPCAClustering(...))`` with
         the paper's PowerFactorization pinned (alternating least squares from
         one random start, at rank 5: ``solver="als", completion_rank=None,
-        n_init=1``) and the paper's GPCA pinned: raw (not normalised) points, one polynomial's
-        gradients, the dense ``cos^2`` kernel and no refinement
+        n_init=1``) and the paper's GPCA pinned: raw (not normalised) points,
+        one polynomial's gradients, the dense ``cos^2`` kernel and no refinement
         (``normalize=False, affinity="polynomial", n_neighbors=None,
         affinity_power=1, refine=False``).
 

@@ -64,6 +64,18 @@ class PowerFactorization(
         more often on real tracks. See Notes. With complete data both use
         the power method.
 
+    completion_rank : int, "auto" or None, default=None
+        Rank ``q >= n_components`` of the factorisation fitted to the
+        observed entries; trajectories are completed at rank ``q`` and then
+        projected on the leading ``n_components`` directions. None fits at
+        ``n_components`` (the paper). ``n`` motions span up to ``4 n``
+        dimensions, so with missing entries a rank-5 fit cannot reproduce
+        the projection of the complete data; an int (e.g. ``4 n``) or
+        "auto" — the smallest rank within 5 % of the best error on held-out
+        observed entries, searched from ``n_components`` up to
+        ``3 n_components`` — fixes that. With complete training data "auto"
+        is ``n_components`` (the projection is then exact at any rank).
+
     n_init : int, default=10
         Maximum number of random starts. Starts stop early once two of them
         reach the same lowest residual (to a relative ``1e-4``); the best
@@ -92,6 +104,20 @@ class PowerFactorization(
     singular_values_ : ndarray of shape (n_components,)
         Singular values of the fitted rank-r matrix.
 
+    completion_rank_ : int
+        Rank ``q`` of the fitted factorisation.
+
+    completion_components_ : ndarray of shape (completion_rank_, n_features)
+        Orthonormal basis of the rank-q fit; ``components_`` are its first
+        ``n_components`` rows.
+
+    completion_singular_values_ : ndarray of shape (completion_rank_,)
+        Singular values of the rank-q fit.
+
+    completion_errors_ : dict
+        Held-out root mean square error of each rank tried when
+        ``completion_rank="auto"`` (empty otherwise).
+
     n_iter_ : int
         Number of iterations run by the start that was kept.
 
@@ -99,8 +125,8 @@ class PowerFactorization(
         Number of random starts run.
 
     reconstruction_err_ : float
-        Root mean square residual over the observed entries of the training
-        data, in the units of ``X``.
+        Root mean square residual of the rank-q fit over the observed
+        entries of the training data, in the units of ``X``.
 
     n_features_in_ : int
         Number of features seen during :term:`fit`.
@@ -144,7 +170,11 @@ class PowerFactorization(
     reached twice (Hong & Fitzgibbon's meta-algorithm).
 
     ``transform`` solves the same per-row least-squares problem against the
-    fitted basis, so training and new trajectories are projected alike.
+    fitted rank-q basis and keeps the leading ``n_components`` coordinates,
+    so training and new trajectories are projected alike. A row observed in
+    ``k < q`` entries is fitted on the leading ``k`` directions; rows need at
+    least ``n_components`` observed entries. Only rows observed in at least
+    ``q`` entries inform the basis.
 
     References
     ----------
@@ -196,7 +226,7 @@ class PowerFactorization(
         *,
         whiten=True,
         solver="varpro",
-        completion_rank="auto",
+        completion_rank=None,
         n_init=10,
         max_iter=500,
         tol=1e-7,

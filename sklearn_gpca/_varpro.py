@@ -257,9 +257,7 @@ class _Layout:
                 done = cumulative[bounds[-1] - 1] if bounds[-1] else 0
                 stop = np.searchsorted(cumulative, done + _CHUNK_PAIRS, side="right")
                 bounds.append(min(max(stop, bounds[-1] + 1), n_samples))
-            self.chunks = [
-                slice(a, b) for a, b in itertools.pairwise(bounds)
-            ]
+            self.chunks = [slice(a, b) for a, b in itertools.pairwise(bounds)]
             self.cache = {} if pairs.sum() <= _CACHED_PAIRS else None
 
     def _pairs(self, k):

@@ -16,9 +16,7 @@ from sklearn_gpca.metrics import misclassification_rate, misclassification_score
 def motions(n_motions, missing=0.2, seed=0, **kwargs):
     params = dict(n_frames=10, noise=0.5, missing_pattern="random", random_state=seed)
     params.update(kwargs)
-    return make_motions(
-        n_motions, n_points=[80] * n_motions, missing=missing, **params
-    )
+    return make_motions(n_motions, n_points=[80] * n_motions, missing=missing, **params)
 
 
 def default_pipeline(n_clusters, seed=0):
