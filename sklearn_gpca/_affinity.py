@@ -21,7 +21,7 @@ from sklearn_gpca._spectral import normal_subspace_features
 _TINY = np.finfo(np.float64).tiny
 
 
-def sign_invariant_neighbors(points, n_neighbors):
+def sign_invariant_neighbors(points, n_neighbors, *, queries=None, n_jobs=None):
     """Indices of the nearest neighbours of unit vectors, up to sign.
 
     Parameters
@@ -30,10 +30,16 @@ def sign_invariant_neighbors(points, n_neighbors):
         Unit vectors.
     n_neighbors : int
         Number of neighbours, at most ``n_samples - 1``.
+    queries : ndarray of shape (n_queries, n_features), default=None
+        Unit vectors whose neighbours among ``points`` are wanted; None
+        queries ``points`` themselves, each excluding itself.
+    n_jobs : int or None, default=None
+        Parallel jobs of the search (see
+        :class:`sklearn.neighbors.NearestNeighbors`).
 
     Returns
     -------
-    indices : ndarray of shape (n_samples, n_neighbors), dtype=intp
+    indices : ndarray of shape (n_samples or n_queries, n_neighbors), dtype=intp
         Row ``i`` lists the points ``j != i`` in increasing order of
         ``min(||x_i - x_j||, ||x_i + x_j||)``, i.e. of the angle between the
         lines through ``x_i`` and ``x_j``.
@@ -48,7 +54,13 @@ def sign_invariant_neighbors(points, n_neighbors):
     array([1, 0, 1])
     """
     n_samples = points.shape[0]
-    tree = NearestNeighbors(n_neighbors=min(n_neighbors + 2, 2 * n_samples))
+    if queries is not None:
+        tree = NearestNeighbors(n_neighbors=n_neighbors, n_jobs=n_jobs)
+        tree.fit(np.vstack([points, -points]))
+        return tree.kneighbors(queries, return_distance=False) % n_samples
+    tree = NearestNeighbors(
+        n_neighbors=min(n_neighbors + 2, 2 * n_samples), n_jobs=n_jobs
+    )
     tree.fit(np.vstack([points, -points]))
     _, found = tree.kneighbors(points)
     found = found % n_samples

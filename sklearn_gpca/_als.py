@@ -26,7 +26,9 @@ def squared_residual(X0, mask, B, A, total):
     return np.einsum("ij,ij->", residual, residual)
 
 
-def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, log):
+def power_factorization(
+    X0, mask, n_components, *, max_iter, tol, random_state, log, init=None
+):
     """Rank-``n_components`` factorisation ``X ~ B A^T`` over observed entries.
 
     Minimises equation (8) of the paper by the PowerFactorization iteration:
@@ -48,6 +50,8 @@ def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, 
     random_state : numpy.random.RandomState
     log : callable
         Called with a message per iteration (verbose output) or a no-op.
+    init : ndarray of shape (n_features, n_components), default=None
+        Starting ``A``; None draws a random orthonormal one.
 
     Returns
     -------
@@ -58,7 +62,10 @@ def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, 
     converged : bool
     """
     n_features = X0.shape[1]
-    A, _ = np.linalg.qr(random_state.standard_normal((n_features, n_components)))
+    if init is None:
+        A, _ = np.linalg.qr(random_state.standard_normal((n_features, n_components)))
+    else:
+        A = init
     total = np.einsum("ij,ij->", X0, X0)
     previous = np.inf
     for n_iter in range(1, max_iter + 1):

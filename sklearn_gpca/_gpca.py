@@ -45,6 +45,14 @@ from sklearn_gpca._veronese import (
 
 # Sine distances below this floor count as a perfect fit in ``score``.
 _SCORE_FLOOR = 1e-6
+# Rows per chunk when the Veronese embedding of all points is reduced to its
+# Gram matrix or to gradients: bounds the temporaries whatever n_samples.
+_CHUNK_ROWS = 2**16
+
+
+def _row_chunks(n_samples, size=_CHUNK_ROWS):
+    for start in range(0, n_samples, size):
+        yield slice(start, min(start + size, n_samples))
 
 
 def _unit_rows(X):
@@ -59,14 +67,27 @@ def _canonical_sign(vectors):
     return vectors * np.where(largest < 0, -1.0, 1.0)[:, None]
 
 
-def _least_singular_vector(embedded):
-    """Right singular vector of ``embedded`` for its smallest singular value.
+def _least_singular_vector(points, degree):
+    """Right singular vector of ``veronese_map(points, degree)`` for its
+    smallest singular value.
 
-    Computed from the ``(M_n, M_n)`` Gram matrix so that the cost is linear in
-    the number of rows.
+    Computed from the ``(M_n, M_n)`` Gram matrix, accumulated over chunks of
+    rows, so that time is linear and memory constant in the number of rows.
     """
-    _, vectors = eigh(embedded.T @ embedded)
+    gram = 0.0
+    for rows in _row_chunks(points.shape[0]):
+        embedded = veronese_map(points[rows], degree)
+        gram = gram + embedded.T @ embedded
+    _, vectors = eigh(gram)
     return vectors[:, 0]
+
+
+def _unit_gradients(points, coef, degree):
+    """Unit gradients of the polynomial ``coef`` at ``points``, in chunks."""
+    normals = np.empty_like(points)
+    for rows in _row_chunks(points.shape[0]):
+        normals[rows] = _unit_rows(polynomial_gradients(points[rows], coef, degree))
+    return normals
 
 
 def _cluster_normals(point_normals, labels, n_clusters, smallest=False):
@@ -163,9 +184,24 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         row-normalised eigenvectors (Ng, Jordan & Weiss).
     n_init : int, default=10
         Number of k-means runs with different centroid seeds.
+    max_spectral_samples : int or None, default=5000
+        Largest number of points segmented by the graph route (neighbour
+        graph, spectral initialisations, smoothed refinement) when
+        ``n_neighbors`` is an int. Beyond it (beyond the paper) that route
+        runs on a uniform random subsample of this size, the subspaces fitted
+        to its clusters label all points, and smoothed
+        K-subspaces refines them on all points, with each point's nearest
+        subsample points as its neighbours in the smoothing term: time and
+        memory linear in ``n_samples``. See Notes. None always uses all
+        points. Irrelevant with ``n_neighbors=None``, whose low-rank route is
+        exact and linear.
+    n_jobs : int or None, default=None
+        Number of parallel jobs of the neighbour searches (joblib threads;
+        ``None`` means 1 unless in a :func:`joblib.parallel_config` context,
+        -1 all processors).
     random_state : int, RandomState instance or None, default=None
-        Seeds the Lanczos start vector, k-means and the reseeding of emptied
-        clusters. Pass an int for reproducible results.
+        Seeds the Lanczos start vector, k-means, the reseeding of emptied
+        clusters and the subsample. Pass an int for reproducible results.
 
     Attributes
     ----------
@@ -185,6 +221,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Unit normal at each training point: the gradient ``Dp(w_i) /
         ||Dp(w_i)||`` for ``affinity="polynomial"``, the least singular
         direction of its neighbourhood for ``"local"``; zero for all-zero rows.
+        Points outside the subsample of ``max_spectral_samples`` get the unit
+        gradient of the polynomial.
+    n_spectral_samples_ : int
+        Number of points segmented by the graph route: ``n_samples`` (less
+        all-zero rows) or ``max_spectral_samples``.
     n_iter_ : int
         Number of K-subspaces rounds run (0 without refinement); the largest
         over the candidates with ``init="multi"``.
@@ -267,6 +308,25 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     the K-subspaces residual energy, which often prefers a wrong split (a
     hyperplane in ``R^5`` can hold two degenerate 2-D motions).
 
+    Large ``n_samples`` (beyond the paper). The Lanczos iterations on the
+    kNN graph grow faster than linearly with ``P`` (more iterations on larger
+    graphs) and the exact neighbour search costs ``O(P log P)`` with a large
+    constant. Above ``max_spectral_samples`` points the graph route therefore
+    runs on a random subsample of ``m`` points. Every other point gets as
+    neighbours its ``k / 3`` nearest subsample points (a KD-tree on the ``2 m``
+    points ``+-x_j``, ``O(P log m)``) and the subsample points keep theirs; on
+    this graph the points are assigned by the smoothed cost above with the
+    subspaces of the subsample's segments, and the smoothed K-subspaces
+    iterations (``O(P K^2 n + P k)`` each) run on all points. Without the
+    smoothing term the extension fails near intersections: plain nearest
+    hyperplane mislabelled 9 % of 10^4 points of three motions in ``R^5``
+    that the smoothed extension labels as the full route does (0.2 %). The
+    polynomial is fitted to all points through the
+    chunked ``M_n x M_n`` Gram matrix of the embedding, exactly. Time and
+    memory are ``O(m k + P K^2 n)``. The dense-kernel route
+    (``n_neighbors=None``) is linear and exact at any size and never
+    subsamples.
+
     References
     ----------
     .. [1] R. Vidal and R. Hartley, "Motion Segmentation with Missing Data
@@ -310,6 +370,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         "init": [StrOptions({"multi", "spectral"})],
         "assign_labels": [StrOptions({"kmeans"})],
         "n_init": [Interval(Integral, 1, None, closed="left")],
+        "max_spectral_samples": [Interval(Integral, 2, None, closed="left"), None],
+        "n_jobs": [Integral, None],
         "random_state": ["random_state"],
     }
 
@@ -329,6 +391,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         init="multi",
         assign_labels="kmeans",
         n_init=10,
+        max_spectral_samples=5000,
+        n_jobs=None,
         random_state=None,
     ):
         self.n_clusters = n_clusters
@@ -344,6 +408,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self.init = init
         self.assign_labels = assign_labels
         self.n_init = n_init
+        self.max_spectral_samples = max_spectral_samples
+        self.n_jobs = n_jobs
         self.random_state = random_state
 
     def _validate_X(self, X, reset):
@@ -422,30 +488,88 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         if self.normalize:
             points = _unit_rows(points)
 
-        coef = _least_singular_vector(veronese_map(points, n_clusters))
+        coef = _least_singular_vector(points, n_clusters)
         self.coef_ = _canonical_sign(coef)[0]
         self.exponents_ = veronese_exponents(X.shape[1], n_clusters)
+        subspace_dim = self.subspace_dim
+        if subspace_dim is None:
+            subspace_dim = X.shape[1] - 1
 
-        neighbors = None
+        n_points = points.shape[0]
+        sample = None
+        if (
+            self.max_spectral_samples is not None
+            and self.n_neighbors is not None
+            and n_points > self.max_spectral_samples
+        ):
+            sample = np.sort(
+                random_state.choice(n_points, self.max_spectral_samples, replace=False)
+            )
+        labels, normals, local, converged = self._segment(
+            points if sample is None else points[sample], subspace_dim, random_state
+        )
+        unit = _unit_rows(points)
+        if sample is not None:
+            if not self.refine:
+                self.normals_ = _cluster_normals(normals, labels, n_clusters)
+                self.subspace_bases_ = [_complement(n) for n in self.normals_]
+            labels, converged = self._extend(
+                unit, sample, labels, local, subspace_dim, random_state
+            )
+            sample_normals = normals
+            normals = _unit_gradients(points, self.coef_, n_clusters)
+            normals[sample] = sample_normals
+        if not converged:
+            warnings.warn(
+                f"K-subspaces refinement stopped at max_iter={self.max_iter} "
+                "before the labels settled; increase max_iter.",
+                ConvergenceWarning,
+                stacklevel=3,
+            )
+        if self.refine:
+            self.subspace_bases_ = [
+                fit_subspace(unit[labels == k], subspace_dim, self.rank_tol)
+                if np.any(labels == k)
+                else np.eye(X.shape[1])[:, : X.shape[1] - 1]
+                for k in range(n_clusters)
+            ]
+            self.normals_ = _cluster_normals(unit, labels, n_clusters, smallest=True)
+        elif sample is None:
+            self.normals_ = _cluster_normals(normals, labels, n_clusters)
+            self.subspace_bases_ = [_complement(n) for n in self.normals_]
+        self.point_normals_ = np.zeros_like(X)
+        self.point_normals_[nonzero] = normals
+        self.labels_ = np.zeros(X.shape[0], dtype=np.intp)
+        self.labels_[nonzero] = labels
+        self.n_spectral_samples_ = n_points if sample is None else sample.size
+        return self
+
+    def _segment(self, points, subspace_dim, random_state):
+        """Labels and point normals of ``points`` by the full route.
+
+        Sets ``n_iter_``, ``init_scores_`` and ``init_chosen_``; returns
+        whether the refinement converged.
+        """
+        n_clusters = self.n_clusters
+        neighbors = local = None
         if self.n_neighbors is not None or self.refine or self.affinity == "local":
             n_neighbors = min(
                 self.n_neighbors if self.n_neighbors is not None else 30,
                 points.shape[0] - 1,
             )
-            neighbors = sign_invariant_neighbors(_unit_rows(points), n_neighbors)
+            neighbors = sign_invariant_neighbors(
+                _unit_rows(points), n_neighbors, n_jobs=self.n_jobs
+            )
             local = neighbors[:, : max(n_neighbors // 3, 1)]
 
         if self.affinity == "polynomial":
-            normals = _unit_rows(polynomial_gradients(points, self.coef_, n_clusters))
+            normals = _unit_gradients(points, self.coef_, n_clusters)
             bases, codims = normals[:, :, None], np.ones(points.shape[0], np.intp)
         else:
             bases, codims = local_normal_bases(_unit_rows(points), local, self.rank_tol)
             normals = bases[:, :, 0]
 
         unit = _unit_rows(points)
-        subspace_dim = self.subspace_dim
-        if subspace_dim is None:
-            subspace_dim = X.shape[1] - 1
         refine_kwargs = dict(
             neighbors=local if self.refine else None,
             smoothing=self.smoothing,
@@ -492,29 +616,66 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             labels = candidates[0]
             self.init_scores_ = np.zeros(1)
             self.init_chosen_ = 0
-        if not converged:
-            warnings.warn(
-                f"K-subspaces refinement stopped at max_iter={self.max_iter} "
-                "before the labels settled; increase max_iter.",
-                ConvergenceWarning,
-                stacklevel=3,
+        return labels, normals, local, converged
+
+    def _extend(self, unit, sample, labels, local, subspace_dim, random_state):
+        """Labels of all points from the segmentation of a subsample.
+
+        Every point gets the ``n_neighbors // 3`` nearest subsample points
+        (sign invariant) as neighbours; the subsample keeps its own graph.
+        The points outside the subsample are assigned by the smoothed cost
+        (sine residual to the subsample's subspaces plus the Potts term
+        against the subsample's labels); with ``refine`` smoothed K-subspaces
+        then runs on all points on that graph. Returns the labels and whether
+        the refinement converged.
+        """
+        n_points = unit.shape[0]
+        n_clusters = self.n_clusters
+        classes = np.arange(n_clusters)
+        others = np.ones(n_points, dtype=bool)
+        others[sample] = False
+        neighbors = np.empty((n_points, local.shape[1]), dtype=np.intp)
+        neighbors[sample] = sample[local]
+        neighbors[others] = sample[
+            sign_invariant_neighbors(
+                unit[sample], local.shape[1], queries=unit[others], n_jobs=self.n_jobs
             )
+        ]
         if self.refine:
-            self.subspace_bases_ = [
-                fit_subspace(unit[labels == k], subspace_dim, self.rank_tol)
-                if np.any(labels == k)
-                else np.eye(X.shape[1])[:, : X.shape[1] - 1]
-                for k in range(n_clusters)
-            ]
-            self.normals_ = _cluster_normals(unit, labels, n_clusters, smallest=True)
+            bases = []
+            for k in classes:
+                members = unit[sample][labels == k]
+                if members.shape[0] < unit.shape[1] - 1:
+                    members = unit[sample]
+                bases.append(fit_subspace(members, subspace_dim, self.rank_tol))
         else:
-            self.normals_ = _cluster_normals(normals, labels, n_clusters)
-            self.subspace_bases_ = [_complement(n) for n in self.normals_]
-        self.point_normals_ = np.zeros_like(X)
-        self.point_normals_[nonzero] = normals
-        self.labels_ = np.zeros(X.shape[0], dtype=np.intp)
-        self.labels_[nonzero] = labels
-        return self
+            bases = self.subspace_bases_
+        residuals = sine_residuals(unit[others], bases)
+        full = np.empty(n_points, dtype=np.intp)
+        full[sample] = labels
+        scale = np.median(
+            sine_residuals(unit[sample], bases)[np.arange(sample.size), labels]
+        )
+        cost = residuals / max(scale, np.finfo(np.float64).tiny)
+        if self.smoothing > 0:
+            agree = (full[neighbors[others]][:, :, None] == classes).sum(axis=1)
+            cost += self.smoothing * (neighbors.shape[1] - agree)
+        full[others] = np.argmin(cost, axis=1)
+        if not self.refine:
+            return full, True
+        full, _, n_iter, converged = refine_ksubspaces(
+            unit,
+            full,
+            n_clusters,
+            neighbors=neighbors,
+            smoothing=self.smoothing,
+            subspace_dim=subspace_dim,
+            rank_tol=self.rank_tol,
+            max_iter=self.max_iter,
+            random_state=random_state,
+        )
+        self.n_iter_ = max(self.n_iter_, n_iter)
+        return full, converged
 
     def _kmeans(self, embedding, n_clusters, random_state):
         return KMeans(
@@ -545,7 +706,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         if self.affinity == "polynomial":
             poly_graph = graph
         else:
-            gradients = _unit_rows(polynomial_gradients(points, self.coef_, n_clusters))
+            gradients = _unit_gradients(points, self.coef_, n_clusters)
             poly_graph = normal_affinity_graph(
                 gradients[:, :, None], np.ones(n_samples), neighbors, power
             )

@@ -8,6 +8,8 @@ import numpy as np
 # that a numerically singular system never raises ``LinAlgError`` deep inside
 # a batched solve. It is far below the accuracy of any measurement.
 _RIDGE = 1e-12
+# Rows per batched solve: bounds the (rows, r, r) temporaries whatever n_rows.
+_CHUNK_ROWS = 2**16
 
 
 def fit_rows(X0, mask, basis):
@@ -35,9 +37,14 @@ def fit_rows(X0, mask, basis):
         gram = basis @ basis.T
         gram = gram + _RIDGE * np.trace(gram) / r * np.eye(r)
         return np.linalg.solve(gram, rhs.T).T
-    # gram[i] = sum_j mask[i, j] basis[:, j] basis[:, j]^T, for all i at once.
+    # gram[i] = sum_j mask[i, j] basis[:, j] basis[:, j]^T, for all i at once,
+    # over chunks of rows so that memory stays O(n_rows r)
     outer = (basis[:, None, :] * basis[None, :, :]).reshape(r * r, n_cols)
-    gram = (mask @ outer.T).reshape(-1, r, r)
-    damping = _RIDGE * np.trace(gram, axis1=1, axis2=2) / r + np.finfo(float).tiny
-    gram[:, np.arange(r), np.arange(r)] += damping[:, None]
-    return np.linalg.solve(gram, rhs[..., None])[..., 0]
+    Z = np.empty_like(rhs)
+    for start in range(0, X0.shape[0], _CHUNK_ROWS):
+        rows = slice(start, start + _CHUNK_ROWS)
+        gram = (mask[rows] @ outer.T).reshape(-1, r, r)
+        damping = _RIDGE * np.trace(gram, axis1=1, axis2=2) / r + np.finfo(float).tiny
+        gram[:, np.arange(r), np.arange(r)] += damping[:, None]
+        Z[rows] = np.linalg.solve(gram, rhs[rows][..., None])[..., 0]
+    return Z

@@ -340,3 +340,28 @@ def test_init_candidates(init):
     assert 0 <= model.init_chosen_ < n_candidates
     if init == "multi":
         assert model.init_scores_[model.init_chosen_] == model.init_scores_.min()
+
+
+def test_subsample_route_matches_full_route(three_hyperplanes):
+    """Spectral steps on a subsample, extended to all points: same segmentation."""
+    _, X, y, _, _, _ = three_hyperplanes
+    full = GPCAClustering(3, max_spectral_samples=None, random_state=0)
+    sub = GPCAClustering(3, max_spectral_samples=300, random_state=0)
+    full.fit(X)
+    sub.fit(X)
+    assert full.n_spectral_samples_ == 600
+    assert sub.n_spectral_samples_ == 300
+    # two points of 600, near intersections, go the other way
+    assert misclassification_rate(full.labels_, sub.labels_) <= 2 / 600 + 1e-12
+    assert misclassification_rate(y, sub.labels_) <= 0.01
+    assert sub.point_normals_.shape == X.shape
+    assert_array_equal(sub.predict(X), sub.labels_)
+
+
+def test_subsample_route_skipped_for_dense_kernel():
+    rng = np.random.RandomState(0)
+    X, _ = sample_subspaces(random_bases([4, 4], 5, rng), 100, rng)
+    model = GPCAClustering(
+        2, n_neighbors=None, affinity_power=1, max_spectral_samples=50
+    ).fit(X)
+    assert model.n_spectral_samples_ == 200

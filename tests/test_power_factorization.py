@@ -188,3 +188,19 @@ def test_permuting_rows_permutes_the_output(seed):
     Z = pf.fit_transform(X)
     Z_permuted = PowerFactorization(3, random_state=0).fit_transform(X[order])
     assert_allclose(Z_permuted, Z[order], atol=1e-6)
+
+
+def test_subsampled_starts_polished_on_all_rows():
+    """Starts on a subsample, ALS polish on all rows: the full-data optimum."""
+    rng = np.random.RandomState(0)
+    X = rng.standard_normal((3000, 4)) @ rng.standard_normal((4, 12))
+    X += 1e-3 * rng.standard_normal(X.shape)
+    X[rng.rand(*X.shape) < 0.2] = np.nan
+    full = PowerFactorization(4, max_init_samples=None, random_state=0).fit(X)
+    sub = PowerFactorization(4, max_init_samples=300, random_state=0).fit(X)
+    assert full.n_polish_iter_ == 0
+    assert sub.n_polish_iter_ >= 1
+    assert_allclose(sub.reconstruction_err_, full.reconstruction_err_, rtol=1e-4)
+    # same subspace
+    overlap = np.linalg.svd(sub.components_ @ full.components_.T)[1]
+    assert_allclose(overlap, 1.0, atol=1e-6)
