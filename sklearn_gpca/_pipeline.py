@@ -32,9 +32,10 @@ def paper_pipeline(n_clusters, *, random_state=None):
     pipeline : sklearn.pipeline.Pipeline
         ``make_pipeline(PowerFactorization(5, ...), GPCAClustering(...))`` with
         the paper's PowerFactorization pinned (alternating least squares from
-        one random start, at rank 5: ``solver="als", completion_rank=None,
-        n_init=1``) and the paper's GPCA pinned: raw (not normalised) points,
-        one polynomial's gradients, the dense ``cos^2`` kernel and no refinement
+        one random start, at rank 5, on all rows: ``solver="als",
+        completion_rank=None, n_init=1, max_init_samples=None``) and the
+        paper's GPCA pinned: raw (not normalised) points, one polynomial's
+        gradients, the dense ``cos^2`` kernel and no refinement
         (``normalize=False, affinity="polynomial", n_neighbors=None,
         affinity_power=1, refine=False``).
 
@@ -54,6 +55,7 @@ def paper_pipeline(n_clusters, *, random_state=None):
             solver="als",
             completion_rank=None,
             n_init=1,
+            max_init_samples=None,
             random_state=random_state,
         ),
         GPCAClustering(
