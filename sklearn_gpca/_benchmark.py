@@ -57,7 +57,7 @@ def default_pipeline(n, seed):
 METHODS = {
     "paper_pipeline": lambda n, seed: paper_pipeline(n, random_state=seed),
     "default pipeline": default_pipeline,
-    "Costeira-Kanade (|Q|, spectral)": lambda n, seed: ShapeInteractionClustering(
+    "Costeira-Kanade (abs Q, spectral)": lambda n, seed: ShapeInteractionClustering(
         n, random_state=seed
     ),
     "SpectralClustering (kNN graph)": lambda n, seed: SpectralClustering(
