@@ -34,6 +34,11 @@ def main():
         default=list(MISSING_FRACTIONS),
         help="occlusion fractions for the two-motion sequences ('' to skip)",
     )
+    parser.add_argument(
+        "--no-imputers",
+        action="store_true",
+        help="skip the imputer baselines on the occluded sequences",
+    )
     parser.add_argument("--output-dir", type=Path, default=RESULTS)
     args = parser.parse_args()
     command = " ".join(["python", "benchmarks/bench_hopkins155.py", *sys.argv[1:]])
@@ -44,6 +49,7 @@ def main():
         jobs=args.jobs,
         seed=args.seed,
         missing=args.missing,
+        imputers=not args.no_imputers,
     )
 
 

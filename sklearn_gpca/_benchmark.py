@@ -191,6 +191,9 @@ def complete_table(results):
     return lines
 
 
+_PIPELINES = ("paper_pipeline", "default pipeline")
+
+
 def missing_table(results, fractions):
     header = " | ".join(f"{100 * f:.0f} %" for f in fractions)
     lines = [
@@ -199,6 +202,8 @@ def missing_table(results, fractions):
     ]
     for method in MISSING_METHODS:
         rows = [r for r in results if r["method"] == method]
+        if not rows:
+            continue
         cells = []
         for fraction in fractions:
             subset = [r for r in rows if r["missing"] == fraction]
@@ -227,6 +232,7 @@ def run_hopkins155(
     jobs=2,
     seed=0,
     missing=MISSING_FRACTIONS,
+    imputers=True,
     progress=print_progress,
 ):
     """Run the benchmark, write its tables and CSV files, print the tables.
@@ -246,6 +252,10 @@ def run_hopkins155(
         ``random_state`` of the methods and of the occlusion masks.
     missing : sequence of float, default=MISSING_FRACTIONS
         Occlusion fractions for the two-motion sequences; empty to skip.
+    imputers : bool, default=True
+        Also run the imputer baselines (scikit-learn's IterativeImputer and
+        KNNImputer, SoftImpute) on the occluded sequences; they take most of
+        the time.
     progress : callable, default=print_progress
         Called as ``progress(done, total)`` after every fit.
     """
@@ -301,7 +311,7 @@ def run_hopkins155(
                 for seq in two_motions
                 for name, factory in MISSING_METHODS.items()
                 # with nothing missing an imputer changes nothing
-                if fraction > 0 or name in ("paper_pipeline", "default pipeline")
+                if name in _PIPELINES or (imputers and fraction > 0)
             ],
             jobs,
             progress,
