@@ -322,32 +322,9 @@ class PowerFactorization(
         subsample = self._subsample(mask_fit, rank, random_state)
         if subsample is not None:
             X_start, mask_start = X_fit[subsample], mask_fit[subsample]
-        total = np.einsum("ij,ij->", X_start, X_start)
-        best, best_residual, n_best = None, np.inf, 0
-        for n_init in range(1, self.n_init + 1):
-            fit = solve(
-                X_start,
-                mask_start,
-                rank,
-                max_iter=self.max_iter,
-                tol=self.tol,
-                random_state=random_state,
-                log=self._log,
-            )
-            residual = squared_residual(X_start, mask_start, fit[0], fit[1], total)
-            # two fits agree to 1e-4 relative (or both fit to round-off)
-            margin = 1e-4 * min(residual, best_residual) + 1e-20 * total
-            if residual < best_residual - margin:
-                best, best_residual, n_best = fit, residual, 1
-            elif residual <= best_residual + margin:
-                n_best += 1
-            self._log(
-                f"start {n_init}, squared residual {residual:.6g}, "
-                f"best {best_residual:.6g} reached {n_best} times"
-            )
-            if n_best >= 2 or best_residual <= 1e-28 * total:
-                break
-        self.n_init_ = n_init
+        best, self.n_init_ = self._best_start(
+            solve, X_start, mask_start, rank, random_state
+        )
         _, A, self.n_iter_, converged = best
         self.n_polish_iter_ = 0
         if subsample is not None:
@@ -440,6 +417,39 @@ class PowerFactorization(
         tags.input_tags.allow_nan = True
         tags.transformer_tags.preserves_dtype = ["float64", "float32"]
         return tags
+
+    def _best_start(self, solve, X0, mask, rank, random_state):
+        """Best of up to ``n_init`` random starts, stopping once reached twice.
+
+        Returns the solver's output for the best start and the number of
+        starts run.
+        """
+        total = np.einsum("ij,ij->", X0, X0)
+        best, best_residual, n_best = None, np.inf, 0
+        for n_init in range(1, self.n_init + 1):
+            fit = solve(
+                X0,
+                mask,
+                rank,
+                max_iter=self.max_iter,
+                tol=self.tol,
+                random_state=random_state,
+                log=self._log,
+            )
+            residual = squared_residual(X0, mask, fit[0], fit[1], total)
+            # two fits agree to 1e-4 relative (or both fit to round-off)
+            margin = 1e-4 * min(residual, best_residual) + 1e-20 * total
+            if residual < best_residual - margin:
+                best, best_residual, n_best = fit, residual, 1
+            elif residual <= best_residual + margin:
+                n_best += 1
+            self._log(
+                f"start {n_init}, squared residual {residual:.6g}, "
+                f"best {best_residual:.6g} reached {n_best} times"
+            )
+            if n_best >= 2 or best_residual <= 1e-28 * total:
+                break
+        return best, n_init
 
     def _choose_rank(self, X0, mask, random_state):
         """Completion rank and the held-out errors that chose it."""
