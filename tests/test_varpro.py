@@ -1,6 +1,4 @@
-import os
 import warnings
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,14 +8,7 @@ from sklearn.exceptions import ConvergenceWarning
 
 from sklearn_gpca import PowerFactorization, _varpro
 from sklearn_gpca._als import squared_residual
-
-DATA = Path(
-    os.environ.get(
-        "SKLEARN_GPCA_DATA",
-        Path(__file__).resolve().parents[1].parent / "shared" / "data",
-    )
-)
-DINO = DATA / "lowrank" / "Dino_trimmed" / "dino_trimmed.mat"
+from sklearn_gpca.datasets import load_lowrank
 
 
 def low_rank(n_samples=200, n_features=24, rank=4, seed=0):
@@ -206,14 +197,10 @@ def test_max_iter_warns():
         PowerFactorization(4, solver="varpro", n_init=1, max_iter=2, tol=0).fit(X)
 
 
-@pytest.mark.skipif(not DINO.exists(), reason=f"{DINO} not found")
-def test_dinosaur_reaches_the_best_known_fit():
+def test_dinosaur_reaches_the_best_known_fit(lowrank_dir):
     # one start (a race of four random bases, the best pursued); the 10-seed
     # success rate is in benchmarks/results/lowrank.md
-    from scipy.io import loadmat
-
-    data = loadmat(DINO)
-    X = np.where(data["W"].T > 0, data["M"].T, np.nan)
+    X = load_lowrank("Dino_trimmed", data_home=lowrank_dir.parent).X
     pf = PowerFactorization(4, n_init=1, completion_rank=None, random_state=0).fit(X)
     # best known rank-4 fit: 1.084673 pixels (Hong & Fitzgibbon, 2015)
     assert pf.reconstruction_err_ <= 1.0850
