@@ -2,6 +2,7 @@ import pickle
 
 import numpy as np
 import pytest
+from _matrices import low_rank, remove
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
@@ -9,19 +10,6 @@ from scipy.linalg import subspace_angles
 from sklearn.exceptions import ConvergenceWarning
 
 from sklearn_gpca import PowerFactorization
-
-
-def low_rank(n_samples=300, n_features=30, rank=5, seed=0):
-    rng = np.random.RandomState(seed)
-    return rng.standard_normal((n_samples, rank)) @ rng.standard_normal(
-        (rank, n_features)
-    )
-
-
-def remove(X, fraction, seed=0):
-    X = X.copy()
-    X[np.random.RandomState(seed).rand(*X.shape) < fraction] = np.nan
-    return X
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

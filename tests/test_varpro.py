@@ -1,7 +1,9 @@
 import warnings
 
+import _matrices
 import numpy as np
 import pytest
+from _matrices import remove
 from numpy.testing import assert_allclose
 from scipy.linalg import subspace_angles
 from sklearn.exceptions import ConvergenceWarning
@@ -12,16 +14,7 @@ from sklearn_gpca.datasets import load_lowrank
 
 
 def low_rank(n_samples=200, n_features=24, rank=4, seed=0):
-    rng = np.random.RandomState(seed)
-    return rng.standard_normal((n_samples, rank)) @ rng.standard_normal(
-        (rank, n_features)
-    )
-
-
-def remove(X, fraction, seed=0):
-    X = X.copy()
-    X[np.random.RandomState(seed).rand(*X.shape) < fraction] = np.nan
-    return X
+    return _matrices.low_rank(n_samples, n_features, rank, seed)
 
 
 def banded(n_frames=40, n_tracks=200, window=5, rank=4, seed=0):
