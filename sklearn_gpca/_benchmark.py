@@ -217,6 +217,26 @@ def missing_table(results, fractions):
     return lines
 
 
+def _write_table(path, title, description, command, timing, rows):
+    """Write a Markdown result table with how to regenerate it; print it."""
+    text = "\n".join(
+        [
+            title,
+            "",
+            f"{description} Regenerate with:",
+            "",
+            f"    {command}",
+            "",
+            timing,
+            "",
+            *rows,
+            "",
+        ]
+    )
+    path.write_text(text)
+    print(text)
+
+
 def write_csv(path, results):
     with path.open("w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(results[0]))
@@ -276,23 +296,17 @@ def run_hopkins155(
     )
     elapsed = time.perf_counter() - start
     write_csv(output_dir / "hopkins155.csv", results)
-    table = [
+    _write_table(
+        output_dir / "hopkins155.md",
         "# Hopkins155: misclassification error (%)",
-        "",
         f"All {len(sequences)} sequences with two or three motions (complete "
         "trajectories, normalised coordinates `x[:2]`), one run each with "
         f"random_state={seed}. Published rows are from the literature "
-        "(means only). Regenerate with:",
-        "",
-        f"    {command}",
-        "",
+        "(means only).",
+        command,
         f"Wall time {elapsed:.0f} s with {jobs} jobs.",
-        "",
-        *complete_table(results),
-        "",
-    ]
-    (output_dir / "hopkins155.md").write_text("\n".join(table))
-    print("\n".join(table))
+        complete_table(results),
+    )
 
     if missing:
         two_motions = [s for s in sequences if s.n_motions == 2]
@@ -318,22 +332,16 @@ def run_hopkins155(
         )
         elapsed = time.perf_counter() - start
         write_csv(output_dir / "hopkins155_missing.csv", results)
-        table = [
+        _write_table(
+            output_dir / "hopkins155_missing.md",
             "# Hopkins155 with occlusions: misclassification error (%)",
-            "",
             f"The {len(two_motions)} two-motion sequences; each track is visible "
             "on one contiguous window of frames (`sklearn_gpca.datasets."
             f"make_missing(X, fraction, pattern='occlusion', random_state="
             f"{seed})`), at least 3 frames per track. Mean (median) error "
             "against the fraction of point-frames removed; imputers run only "
-            "where something is missing. Regenerate with:",
-            "",
-            f"    {command}",
-            "",
+            "where something is missing.",
+            command,
             f"Wall time {elapsed:.0f} s with {jobs} jobs.",
-            "",
-            *missing_table(results, missing),
-            "",
-        ]
-        (output_dir / "hopkins155_missing.md").write_text("\n".join(table))
-        print("\n".join(table))
+            missing_table(results, missing),
+        )
