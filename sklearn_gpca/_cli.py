@@ -244,17 +244,7 @@ def read_trajectories(path):
 
 
 def _n_motions(value):
-    if value == "auto":
-        return value
-    try:
-        n = int(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"must be a positive integer or 'auto', got {value!r}"
-        ) from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {n}")
-    return n
+    return value if value == "auto" else _positive_int(value)
 
 
 def _positive_int(value):
