@@ -23,6 +23,8 @@ from sklearn_gpca.datasets._missing import (
 
 _IMAGE_SIZE = (640.0, 480.0)
 _MOTION_DIMS = {"full": 4, "planar": 3, "linear": 2}
+# Draws of one object's motion before make_motions gives up on min_angle.
+_MAX_ATTEMPTS = 1000
 
 
 def _split_points(n_points, n_motions):
@@ -65,15 +67,18 @@ def _motion_types(motion_types, n_motions):
 
 
 def _structure(kind, n_points, rng):
-    """3-D points in the object frame; [X; 1] has rank 4, 3 or 2."""
+    """3-D points in the object frame and a basis (3, d) of their span.
+
+    ``[X; 1]`` has rank 4, 3 or 2.
+    """
     radius = rng.uniform(40.0, 80.0)
     if kind == "full":
         axes = radius * rng.uniform(0.5, 1.0, size=3)
-        return rng.uniform(-1.0, 1.0, size=(n_points, 3)) * axes
+        return rng.uniform(-1.0, 1.0, size=(n_points, 3)) * axes, np.eye(3)
     dim = 2 if kind == "planar" else 1
     basis, _ = np.linalg.qr(rng.normal(size=(3, dim)))
     coefs = rng.uniform(-radius, radius, size=(n_points, dim))
-    return coefs @ basis.T
+    return coefs @ basis.T, basis
 
 
 def _rotations(n_frames, rng):
@@ -99,6 +104,25 @@ def _translations(n_frames, rng):
     return np.vstack([start, start + np.cumsum(velocities, axis=0)])
 
 
+def _motion_subspace(rotations, translations, zoom, centre, span):
+    """Orthonormal basis of the subspace ``M [X; 1]`` spans in R^{2F}.
+
+    ``span`` (4, d) spans the homogeneous structure ``[X_p; 1]``.
+    """
+    n_frames = zoom.shape[0]
+    motion = np.empty((n_frames, 2, 4))
+    motion[:, :, :3] = zoom[:, None, None] * rotations[:, :2, :]
+    motion[:, :, 3] = zoom[:, None] * translations[:, :2] + centre
+    basis, _ = np.linalg.qr(motion.reshape(2 * n_frames, 4) @ span)
+    return basis
+
+
+def _largest_angle(U, V):
+    """Largest principal angle, in degrees, between orthonormal bases U and V."""
+    cosines = np.linalg.svd(U.T @ V, compute_uv=False)
+    return float(np.degrees(np.arccos(min(cosines.min(), 1.0))))
+
+
 @validate_params(
     {
         "n_motions": [Interval(Integral, 1, None, closed="left")],
@@ -112,6 +136,7 @@ def _translations(n_frames, rng):
         "n_outliers": [Interval(Integral, 0, None, closed="left")],
         "shuffle": ["boolean"],
         "return_complete": ["boolean"],
+        "min_angle": [Interval(Real, 0, 90, closed="both")],
         "random_state": ["random_state"],
     },
     prefer_skip_nested_validation=True,
@@ -129,6 +154,7 @@ def make_motions(
     n_outliers=0,
     shuffle=True,
     return_complete=False,
+    min_angle=10.0,
     random_state=None,
 ):
     """Generate point trajectories of rigidly moving objects.
@@ -202,6 +228,12 @@ def make_motions(
     return_complete : bool, default=False
         If True, also return the data before entries were removed.
 
+    min_angle : float in [0, 90], default=10.0
+        Smallest allowed largest principal angle, in degrees, between the
+        subspaces of any two motions (see Notes). An object's motion is
+        redrawn until it is at least this far from every earlier one; 0
+        disables the check, and so does ``dependent="rotation"``.
+
     random_state : int, RandomState instance or None, default=None
         Seed of all the randomness.
 
@@ -243,6 +275,19 @@ def make_motions(
     of real sequences (e.g. planar motion on a ground plane) reach the same
     subspace dimensions through the motion instead of the structure.
 
+    All motion subspaces nearly contain the trajectories of stationary
+    points, so their smallest principal angles are small by nature; two
+    motions are told apart by their largest principal angle
+    :math:`\\theta_{max}` (:math:`\\sin \\theta_{max} = \\|P_i - P_j\\|_2`
+    for subspaces of equal dimension). Every pair of motions has
+    :math:`\\theta_{max} \\geq` ``min_angle`` (10 degrees by default): an
+    object's rotation and translation (only the rotation under
+    ``dependent="translation"``) are redrawn up to 1000 times until its
+    subspace is that far from every earlier object's, and a ``ValueError``
+    is raised if they never are. Under ``dependent="rotation"`` the subspaces
+    share their rotation dimensions and differ, by design, only through the
+    translations, by a few degrees (median about 7): no angle is enforced.
+
     References
     ----------
     .. [1] R. Vidal and R. Hartley, "Motion Segmentation with Missing Data
@@ -270,21 +315,44 @@ def make_motions(
         _translations(n_frames, rng) if dependent == "translation" else None
     )
 
-    blocks, labels = [], []
+    # A shared rotation leaves only the translations to tell motions apart,
+    # a few degrees by design (see Notes): no angle is enforced then.
+    required_angle = 0.0 if dependent == "rotation" else min_angle
+    blocks, labels, subspaces = [], [], []
     for i, (size, kind) in enumerate(zip(sizes, types, strict=True)):
-        points = _structure(kind, size, rng)
+        points, basis = _structure(kind, size, rng)
+        offset = np.zeros(3)
         if dependent == "translation":
             # Offset the object from the shared joint it rotates about.
             direction = rng.normal(size=3)
-            points = points + 120.0 * direction / np.linalg.norm(direction)
-        rotations = (
-            shared_rotations if dependent == "rotation" else _rotations(n_frames, rng)
-        )
-        translations = (
-            shared_translations
-            if dependent == "translation"
-            else _translations(n_frames, rng)
-        )
+            offset = 120.0 * direction / np.linalg.norm(direction)
+            points = points + offset
+        # [X_p; 1] = span @ [coefficients; 1] for every point of the object.
+        span = np.zeros((4, basis.shape[1] + 1))
+        span[:3, :-1], span[:3, -1], span[3, -1] = basis, offset, 1.0
+        for _ in range(_MAX_ATTEMPTS):
+            rotations = (
+                shared_rotations
+                if dependent == "rotation"
+                else _rotations(n_frames, rng)
+            )
+            translations = (
+                shared_translations
+                if dependent == "translation"
+                else _translations(n_frames, rng)
+            )
+            subspace = _motion_subspace(rotations, translations, zoom, centre, span)
+            if all(
+                _largest_angle(subspace, other) >= required_angle for other in subspaces
+            ):
+                break
+        else:
+            raise ValueError(
+                f"Could not draw motion {i} with a largest principal angle of at "
+                f"least min_angle={min_angle} degrees to every earlier motion in "
+                f"{_MAX_ATTEMPTS} attempts; lower min_angle or use more frames."
+            )
+        subspaces.append(subspace)
         world = np.einsum("fij,pj->pfi", rotations[:, :2, :], points)
         image = zoom[:, None] * (world + translations[:, :2]) + centre
         blocks.append(image.reshape(size, 2 * n_frames))
