@@ -2,12 +2,18 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import re
+
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
+from scipy.linalg import subspace_angles
 
 from sklearn_gpca.datasets import make_missing, make_motions, make_transparent
 from sklearn_gpca.datasets._missing import MIN_FRAMES_PER_TRACK, MIN_POINTS_PER_FRAME
+from sklearn_gpca.datasets._motions import _MOTION_DIMS
 
 
 def numerical_rank(A, rtol=1e-9):
@@ -17,6 +23,19 @@ def numerical_rank(A, rtol=1e-9):
 
 def observed_frames(X):
     return ~np.isnan(X[:, 0::2])
+
+
+def largest_angles(X, y, dims):
+    """Largest principal angle (degrees) between the row spaces of each pair."""
+    bases = [
+        np.linalg.svd(X[y == k], full_matrices=False)[2][:dim].T
+        for k, dim in enumerate(dims)
+    ]
+    return {
+        (i, j): np.degrees(subspace_angles(bases[i], bases[j]).max())
+        for i in range(len(bases))
+        for j in range(i)
+    }
 
 
 @pytest.mark.parametrize("n_motions", [1, 2, 3])
@@ -78,6 +97,75 @@ def test_dependent_motions(dependent, union_rank):
     assert numerical_rank(X) == union_rank
     # Partially, not fully, dependent (paper eq. (7)).
     assert numerical_rank(X) > max(ranks)
+
+
+@settings(max_examples=60, deadline=None, derandomize=True)
+@given(
+    seed=st.integers(min_value=0, max_value=2**32 - 1),
+    n_motions=st.integers(min_value=2, max_value=4),
+    n_frames=st.integers(min_value=3, max_value=15),
+    motion_type=st.sampled_from(["full", "planar", "linear"]),
+    dependent=st.sampled_from([None, "translation"]),
+)
+def test_motions_are_min_angle_apart(seed, n_motions, n_frames, motion_type, dependent):
+    # Measured on the noise-free trajectories, not on the generator's model.
+    X, y = make_motions(
+        n_motions,
+        20 * n_motions,
+        n_frames,
+        noise=0.0,
+        motion_types=motion_type,
+        dependent=dependent,
+        random_state=seed,
+    )
+    angles = largest_angles(X, y, [_MOTION_DIMS[motion_type]] * n_motions)
+    assert min(angles.values()) >= 10.0 - 1e-6
+
+
+def test_scaling_benchmark_draw_is_separable():
+    # The draw of benchmarks/bench_scaling.py once held two motions 7 degrees
+    # apart (principal angles 7, 3.2, 0.2, 0.04), which no method separates.
+    _, y, X = make_motions(
+        3,
+        n_points=10000,
+        n_frames=10,
+        noise=0.0,
+        missing=0.1,
+        return_complete=True,
+        random_state=0,
+    )
+    angles = largest_angles(X, y, [4, 4, 4])
+    assert min(angles.values()) >= 10.0
+    # The same motions as with the benchmark's noise: only later draws differ.
+    _, y_noisy = make_motions(
+        3, n_points=10000, n_frames=10, noise=1.0, missing=0.1, random_state=0
+    )
+    assert_array_equal(y_noisy, y)
+
+
+def test_min_angle_zero_keeps_close_motions():
+    # Without the check, the benchmark draw keeps its two close motions.
+    _, y, X = make_motions(
+        3,
+        n_points=10000,
+        n_frames=10,
+        noise=0.0,
+        missing=0.1,
+        return_complete=True,
+        min_angle=0.0,
+        random_state=0,
+    )
+    assert min(largest_angles(X, y, [4, 4, 4]).values()) < 10.0
+
+
+def test_min_angle_impossible():
+    message = (
+        "Could not draw motion 1 with a largest principal angle of at least "
+        "min_angle=90.0 degrees to every earlier motion in 1000 attempts; lower "
+        "min_angle or use more frames."
+    )
+    with pytest.raises(ValueError, match=re.escape(message)):
+        make_motions(2, 20, 5, min_angle=90.0, random_state=0)
 
 
 def test_noise_level():
@@ -168,6 +256,7 @@ def test_determinism_and_shuffle():
         (dict(n_points=[10, 10, 10]), "positive ints"),
         (dict(n_motions=3, n_points=2), "smaller than n_motions=3"),
         (dict(random_state="seed"), "random_state"),
+        (dict(min_angle=91.0), "min_angle"),
     ],
 )
 def test_invalid_arguments(kwargs, match):
