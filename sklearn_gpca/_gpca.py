@@ -50,6 +50,11 @@ _SCORE_FLOOR = 1e-6
 _CHUNK_ROWS = 2**16
 
 
+def _coarse(n_neighbors):
+    """Neighbourhood size of the coarse-scale graph of ``init="multi"``."""
+    return (3 * n_neighbors + 1) // 2
+
+
 def _row_chunks(n_samples, size=_CHUNK_ROWS):
     for start in range(0, n_samples, size):
         yield slice(start, min(start + size, n_samples))
@@ -172,13 +177,15 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     init : {"multi", "spectral"}, default="multi"
         Initial segmentation(s) of the refinement, when ``n_neighbors`` is an
         int. ``"spectral"``: spectral clustering of the ``affinity`` graph.
-        ``"multi"`` (beyond the paper): three candidates -- spectral clustering
-        of the ``affinity`` graph, of its entrywise product with the
-        polynomial-normal graph, and of the ``affinity`` graph into
-        ``n_clusters + 1`` clusters greedily merged back (recovers a small
-        motion that the plain split would share out) -- each refined, and the
-        one with the smallest normalised cut on the polynomial-normal kNN
-        graph kept (see Notes). About three times the cost of ``"spectral"``.
+        ``"multi"`` (beyond the paper): six candidates from three graphs --
+        the ``affinity`` graph, the same graph at the coarser scale of
+        ``1.5 * n_neighbors`` neighbours, and its entrywise product with the
+        polynomial-normal graph -- each split into ``n_clusters`` clusters
+        and into ``n_clusters + 1`` clusters greedily merged back (recovers a
+        small motion that the plain split would share out); each candidate is
+        refined and the one with the smallest normalised cut on the
+        polynomial-normal kNN graph kept (see Notes). About four times the
+        cost of ``"spectral"``.
     assign_labels : {"kmeans"}, default="kmeans"
         How the spectral embedding is turned into labels: k-means on the
         row-normalised eigenvectors (Ng, Jordan & Weiss).
@@ -233,8 +240,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Normalised cut of each (refined) candidate segmentation on the
         polynomial-normal graph with ``init="multi"``; ``[0.]`` otherwise.
     init_chosen_ : int
-        Index of the kept candidate (0: plain spectral, 1: product graph,
-        2: over-segmented and merged).
+        Index of the kept candidate: ``2 g + s`` with graph ``g`` (0: the
+        ``affinity`` graph, 1: its coarse scale, 2: the product graph; the
+        coarse graph is skipped, and the product graph is 1, when there are
+        too few points for a coarser neighbourhood) and ``s`` (0: plain
+        split, 1: over-segmented and merged).
     coef_ : ndarray of shape (n_monomials,)
         Unit-norm coefficients ``c`` of the fitted polynomial
         ``p(w) = c^T nu_n(w)``, one per row of ``exponents_``.
@@ -300,7 +310,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     two subspaces where the distances alone are ambiguous. Time and memory
     are ``O(P k)``; no ``P x P`` array is formed.
 
-    With ``init="multi"`` the refinement runs from three spectral
+    With ``init="multi"`` the refinement runs from six spectral
     initialisations and keeps the labels ``l`` minimising the normalised cut
     ``sum_k cut(C_k, rest) / vol(C_k)`` on the kNN graph weighted by the
     polynomial gradients (the paper's normals, power ``q``). On Hopkins155 its
@@ -557,9 +567,14 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
                 self.n_neighbors if self.n_neighbors is not None else 30,
                 points.shape[0] - 1,
             )
-            neighbors = sign_invariant_neighbors(
-                _unit_rows(points), n_neighbors, n_jobs=self.n_jobs
+            # the coarse scale of init="multi" reuses the same (sorted) search
+            n_search = n_neighbors
+            if self.init == "multi" and self.n_neighbors is not None:
+                n_search = min(_coarse(n_neighbors), points.shape[0] - 1)
+            searched = sign_invariant_neighbors(
+                _unit_rows(points), n_search, n_jobs=self.n_jobs
             )
+            neighbors = searched[:, :n_neighbors]
             local = neighbors[:, : max(n_neighbors // 3, 1)]
 
         if self.affinity == "polynomial":
@@ -593,7 +608,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             ]
         else:
             candidates, poly_graph = self._spectral_candidates(
-                points, bases, codims, neighbors, random_state
+                points, bases, codims, searched, random_state
             )
         if self.refine:
             refined = []
@@ -682,18 +697,24 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             n_clusters, n_init=self.n_init, random_state=random_state
         ).fit_predict(_unit_rows(embedding))
 
-    def _spectral_candidates(self, points, bases, codims, neighbors, random_state):
+    def _spectral_candidates(self, points, bases, codims, searched, random_state):
         """Initial segmentations from the sparse graphs, and the polynomial graph.
 
         ``init="spectral"``: spectral clustering of the ``affinity`` graph.
-        ``init="multi"``: also of its entrywise product with the
-        polynomial-normal graph, and an over-segmentation of the ``affinity``
-        graph into ``n_clusters + 1`` clusters merged back by
-        :func:`merge_clusters`. The ``n_clusters + 1`` leading eigenvectors
-        are computed once; their first ``n_clusters`` give the plain embedding.
+        ``init="multi"``: three graphs -- the ``affinity`` graph, the same
+        graph at the coarser scale of ``1.5 n_neighbors`` neighbours (local
+        normals from ``n_neighbors // 2`` of them), and the entrywise product
+        of the ``affinity`` graph with the polynomial-normal graph -- each
+        split into ``n_clusters`` clusters and into ``n_clusters + 1``
+        clusters merged back by :func:`merge_clusters`. The ``n_clusters + 1``
+        leading eigenvectors of each graph are computed once; their first
+        ``n_clusters`` give the plain embedding. ``searched`` holds the sorted
+        neighbours at the largest scale needed.
         """
         n_samples, n_features = points.shape
         n_clusters = self.n_clusters
+        n_neighbors = min(self.n_neighbors, n_samples - 1)
+        neighbors = searched[:, :n_neighbors]
         if bases.shape[2] < n_features:
             pad = n_features - bases.shape[2]
             bases = np.pad(bases, ((0, 0), (0, 0), (0, pad)))
@@ -710,17 +731,28 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             poly_graph = normal_affinity_graph(
                 gradients[:, :, None], np.ones(n_samples), neighbors, power
             )
-        vectors = leading_eigenvectors(graph, n_clusters + 1, random_state)
-        product = leading_eigenvectors(
-            graph.multiply(poly_graph).tocsr(), n_clusters, random_state
-        )
-        candidates = [
-            self._kmeans(vectors[:, :n_clusters], n_clusters, random_state),
-            self._kmeans(product, n_clusters, random_state),
-            merge_clusters(
-                graph, self._kmeans(vectors, n_clusters + 1, random_state), n_clusters
-            ),
-        ]
+        graphs = [graph, graph.multiply(poly_graph).tocsr()]
+        if searched.shape[1] > n_neighbors:
+            if self.affinity == "local":
+                coarse_bases, coarse_codims = local_normal_bases(
+                    _unit_rows(points),
+                    searched[:, : max(searched.shape[1] // 3, 1)],
+                    self.rank_tol,
+                )
+            else:
+                coarse_bases, coarse_codims = bases, codims
+            graphs.insert(
+                1,
+                normal_affinity_graph(coarse_bases, coarse_codims, searched, power),
+            )
+        candidates = []
+        for each in graphs:
+            vectors = leading_eigenvectors(each, n_clusters + 1, random_state)
+            split = self._kmeans(vectors, n_clusters + 1, random_state)
+            candidates.append(
+                self._kmeans(vectors[:, :n_clusters], n_clusters, random_state)
+            )
+            candidates.append(merge_clusters(each, split, n_clusters))
         return candidates, poly_graph
 
     def _sine_distances(self, X):

@@ -335,11 +335,22 @@ def test_init_candidates(init):
     y = np.repeat(np.arange(3), [30, 60, 200])
     model = GPCAClustering(3, init=init, random_state=0).fit(X)
     assert misclassification_rate(y, model.labels_) < 0.02
-    n_candidates = 3 if init == "multi" else 1
+    # three graphs (fine, coarse, product) x (n, n + 1 merged) clusters
+    n_candidates = 6 if init == "multi" else 1
     assert model.init_scores_.shape == (n_candidates,)
     assert 0 <= model.init_chosen_ < n_candidates
     if init == "multi":
         assert model.init_scores_[model.init_chosen_] == model.init_scores_.min()
+
+
+def test_init_multi_without_coarse_scale():
+    """With too few points for a coarser neighbourhood, two graphs remain."""
+    rng = np.random.RandomState(3)
+    bases = random_bases([4, 4], 5, rng)
+    X = np.vstack([rng.randn(14, 4) @ B.T for B in bases])
+    model = GPCAClustering(2, n_neighbors=30, random_state=0).fit(X)
+    assert model.init_scores_.shape == (4,)
+    assert misclassification_rate(np.repeat([0, 1], 14), model.labels_) == 0.0
 
 
 def test_subsample_route_matches_full_route(three_hyperplanes):
