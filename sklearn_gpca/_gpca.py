@@ -32,6 +32,12 @@ from sklearn_gpca._affinity import (
 )
 from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
 from sklearn_gpca._missing import describe_indices
+from sklearn_gpca._polynomials import (
+    embedded_spectrum,
+    null_space_dimension,
+    polynomial_normal_bases,
+    row_chunks,
+)
 from sklearn_gpca._spectral import (
     normal_subspace_features,
     spectral_clustering_lowrank,
@@ -40,24 +46,15 @@ from sklearn_gpca._veronese import (
     n_monomials,
     polynomial_gradients,
     veronese_exponents,
-    veronese_map,
 )
 
 # Sine distances below this floor count as a perfect fit in ``score``.
 _SCORE_FLOOR = 1e-6
-# Rows per chunk when the Veronese embedding of all points is reduced to its
-# Gram matrix or to gradients: bounds the temporaries whatever n_samples.
-_CHUNK_ROWS = 2**16
 
 
 def _coarse(n_neighbors):
     """Neighbourhood size of the coarse-scale graph of ``init="multi"``."""
     return (3 * n_neighbors + 1) // 2
-
-
-def _row_chunks(n_samples, size=_CHUNK_ROWS):
-    for start in range(0, n_samples, size):
-        yield slice(start, min(start + size, n_samples))
 
 
 def _unit_rows(X):
@@ -72,25 +69,10 @@ def _canonical_sign(vectors):
     return vectors * np.where(largest < 0, -1.0, 1.0)[:, None]
 
 
-def _least_singular_vector(points, degree):
-    """Right singular vector of ``veronese_map(points, degree)`` for its
-    smallest singular value.
-
-    Computed from the ``(M_n, M_n)`` Gram matrix, accumulated over chunks of
-    rows, so that time is linear and memory constant in the number of rows.
-    """
-    gram = 0.0
-    for rows in _row_chunks(points.shape[0]):
-        embedded = veronese_map(points[rows], degree)
-        gram = gram + embedded.T @ embedded
-    _, vectors = eigh(gram)
-    return vectors[:, 0]
-
-
 def _unit_gradients(points, coef, degree):
     """Unit gradients of the polynomial ``coef`` at ``points``, in chunks."""
     normals = np.empty_like(points)
-    for rows in _row_chunks(points.shape[0]):
+    for rows in row_chunks(points.shape[0]):
         normals[rows] = _unit_rows(polynomial_gradients(points[rows], coef, degree))
     return normals
 
@@ -140,10 +122,15 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Scale every point to unit norm first. Subspaces are linear, so this
         changes no subspace; it equalises the weight of the points in the
         polynomial fit and in the K-subspaces fits. The paper uses ``False``.
-    affinity : {"local", "polynomial"}, default="local"
+    affinity : {"local", "polynomial", "polynomials"}, default="local"
         Where the per-point normals come from. ``"polynomial"``: the unit
-        gradient of the fitted polynomial (paper, section 2.2.3). ``"local"``:
-        the least singular directions of the point and its ``n_neighbors // 3``
+        gradient of the fitted polynomial (paper, section 2.2.3).
+        ``"polynomials"``: the span of the gradients of all the vanishing
+        polynomials, ``n_polynomials_`` of them, estimated from the spectrum
+        of the embedded data (paper, section 2.2.4, for subspaces of lower
+        dimension); directions of the gradient matrix with singular value
+        ``<= rank_tol`` times the largest are dropped. ``"local"``: the least
+        singular directions of the point and its ``n_neighbors // 3``
         nearest neighbours (sign-invariant angular distance); their number, the
         local codimension, is estimated with ``rank_tol``.
     n_neighbors : int or None, default=30
@@ -226,8 +213,9 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         n_features - 1`` for hyperplanes. ``predict`` and ``score`` use them.
     point_normals_ : ndarray of shape (n_samples, n_features)
         Unit normal at each training point: the gradient ``Dp(w_i) /
-        ||Dp(w_i)||`` for ``affinity="polynomial"``, the least singular
-        direction of its neighbourhood for ``"local"``; zero for all-zero rows.
+        ||Dp(w_i)||`` for ``affinity="polynomial"``, the strongest direction
+        of the gradients for ``"polynomials"``, the least singular direction
+        of its neighbourhood for ``"local"``; zero for all-zero rows.
         Points outside the subsample of ``max_spectral_samples`` get the unit
         gradient of the polynomial.
     n_spectral_samples_ : int
@@ -248,6 +236,14 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     coef_ : ndarray of shape (n_monomials,)
         Unit-norm coefficients ``c`` of the fitted polynomial
         ``p(w) = c^T nu_n(w)``, one per row of ``exponents_``.
+    polynomials_ : ndarray of shape (n_polynomials_, n_monomials)
+        Orthonormal coefficients of the vanishing polynomials: the right
+        singular vectors of the embedded data for its ``n_polynomials_``
+        smallest singular values, the first being ``coef_``.
+    n_polynomials_ : int
+        Estimated dimension of the null space of the embedded data: the
+        largest gap between consecutive (log) singular values. 1 for
+        hyperplanes; more for subspaces of lower dimension.
     exponents_ : ndarray of shape (n_monomials, n_features)
         Exponents of the monomials of degree ``n_clusters``; ``n_monomials =
         C(n_clusters + n_features - 1, n_clusters)``. The polynomial at ``w`` is
@@ -365,7 +361,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     _parameter_constraints: dict = {
         "n_clusters": [Interval(Integral, 1, None, closed="left")],
         "normalize": ["boolean"],
-        "affinity": [StrOptions({"local", "polynomial"})],
+        "affinity": [StrOptions({"local", "polynomial", "polynomials"})],
         "n_neighbors": [Interval(Integral, 1, None, closed="left"), None],
         "affinity_power": [Interval(Integral, 1, None, closed="left")],
         "refine": ["boolean"],
@@ -498,8 +494,10 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         if self.normalize:
             points = _unit_rows(points)
 
-        coef = _least_singular_vector(points, n_clusters)
-        self.coef_ = _canonical_sign(coef)[0]
+        singular_values, vectors = embedded_spectrum(points, n_clusters)
+        self.coef_ = _canonical_sign(vectors[:, 0])[0]
+        self.n_polynomials_ = null_space_dimension(singular_values)
+        self.polynomials_ = _canonical_sign(vectors[:, : self.n_polynomials_].T)
         self.exponents_ = veronese_exponents(X.shape[1], n_clusters)
         subspace_dim = self.subspace_dim
         if subspace_dim is None:
@@ -580,6 +578,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         if self.affinity == "polynomial":
             normals = _unit_gradients(points, self.coef_, n_clusters)
             bases, codims = normals[:, :, None], np.ones(points.shape[0], np.intp)
+        elif self.affinity == "polynomials":
+            bases, codims = polynomial_normal_bases(
+                _unit_rows(points), self.polynomials_.T, n_clusters, self.rank_tol
+            )
+            normals = bases[:, :, 0]
         else:
             bases, codims = local_normal_bases(_unit_rows(points), local, self.rank_tol)
             normals = bases[:, :, 0]

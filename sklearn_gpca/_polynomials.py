@@ -1,0 +1,127 @@
+"""Vanishing polynomials of a union of subspaces and their normal subspaces.
+
+Section 2.2.4 of Vidal & Hartley (CVPR 2004), "Modelling low-dimension
+subspaces": when the subspaces are not hyperplanes, the embedded data matrix
+``W~`` (one Veronese-embedded point per column) has a null space of dimension
+greater than one. Each null vector ``c_l`` is a homogeneous polynomial
+``p_l(x) = c_l^T nu_n(x)`` vanishing on every subspace, and at a point ``x`` of
+subspace ``S`` the gradients ``Dp_l(x)`` span the orthogonal complement of
+``S`` (for generic points). Everything is computed from the ``M_n x M_n`` Gram
+matrix ``W~ W~^T``, accumulated over chunks of rows: linear in the number of
+points.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+from scipy.linalg import eigh
+
+from sklearn_gpca._veronese import polynomial_gradients, veronese_map
+
+# Rows per chunk when the Veronese embedding of all points is reduced to its
+# Gram matrix: bounds the temporaries whatever the number of points.
+CHUNK_ROWS = 2**16
+
+
+def row_chunks(n_samples, size=CHUNK_ROWS):
+    """Slices of at most ``size`` consecutive rows covering ``n_samples``."""
+    for start in range(0, n_samples, size):
+        yield slice(start, min(start + size, n_samples))
+
+
+def embedded_spectrum(points, degree):
+    """Singular values and right singular vectors of ``veronese_map(points, degree)``.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_samples, n_features)
+        Points, one per row.
+    degree : int
+        Degree ``n`` of the embedding.
+
+    Returns
+    -------
+    singular_values : ndarray of shape (n_monomials,)
+        In increasing order.
+    vectors : ndarray of shape (n_monomials, n_monomials)
+        Column ``l`` is the coefficient vector of the polynomial with the
+        ``l``-th smallest residual ``||W~^T c||``.
+    """
+    gram = 0.0
+    for rows in row_chunks(points.shape[0]):
+        embedded = veronese_map(points[rows], degree)
+        gram = gram + embedded.T @ embedded
+    values, vectors = eigh(gram)
+    return np.sqrt(np.maximum(values, 0.0)), vectors
+
+
+def null_space_dimension(singular_values):
+    """Numerical dimension of the null space of the embedded data.
+
+    The largest gap in the log singular values: with ``s_1 <= ... <= s_M``
+    (floored at ``1e-12 s_M``), the ``m`` maximising ``s_{m + 1} / s_m``.
+    Noise lifts the zero singular values of the null space to the noise
+    level; the gap to the first singular value carried by the data stays the
+    largest as long as the noise is small against the subspaces' separation.
+
+    Parameters
+    ----------
+    singular_values : ndarray of shape (n_monomials,)
+        In increasing order, as returned by :func:`embedded_spectrum`.
+
+    Returns
+    -------
+    n_polynomials : int
+        Between 1 and ``n_monomials - 1``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca._polynomials import null_space_dimension
+    >>> null_space_dimension(np.array([1e-3, 2e-3, 0.5, 0.7, 1.0]))
+    2
+    """
+    values = np.maximum(singular_values, 1e-12 * singular_values[-1])
+    if values.shape[0] < 2:
+        return 1
+    return int(np.argmax(np.diff(np.log(values)))) + 1
+
+
+def polynomial_normal_bases(points, coefs, degree, rank_tol):
+    """Normal subspace at each point from the gradients of several polynomials.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_samples, n_features)
+        Points (unit vectors).
+    coefs : ndarray of shape (n_monomials, n_polynomials)
+        Orthonormal coefficient vectors of the vanishing polynomials.
+    degree : int
+        Their degree.
+    rank_tol : float
+        A direction of the ``(n_polynomials, n_features)`` gradient matrix
+        ``[Dp_1(x_i); ...]`` with singular value ``s_l <= rank_tol * s_1`` is
+        noise; the others span the normal subspace (at least one does).
+
+    Returns
+    -------
+    bases : ndarray of shape (n_samples, n_features, n_features)
+        ``bases[i][:, l]`` for ``l < codims[i]`` is an orthonormal basis of
+        the normal subspace at point ``i``, strongest direction first; the
+        remaining columns are zero.
+    codims : ndarray of shape (n_samples,), dtype=intp
+        Its dimension, at most ``min(n_polynomials, n_features - 1)``.
+    """
+    n_samples, n_features = points.shape
+    bases = np.zeros((n_samples, n_features, n_features))
+    codims = np.ones(n_samples, dtype=np.intp)
+    for rows in row_chunks(n_samples):
+        gradients = polynomial_gradients(points[rows], coefs, degree)
+        _, values, vt = np.linalg.svd(gradients, full_matrices=False)
+        keep = values > rank_tol * values[:, :1]
+        keep[:, 0] = True
+        keep[:, n_features - 1 :] = False
+        width = vt.shape[1]
+        bases[rows, :, :width] = vt.transpose(0, 2, 1) * keep[:, None, :]
+        codims[rows] = np.count_nonzero(keep, axis=1)
+    return bases, codims
