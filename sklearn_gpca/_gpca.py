@@ -15,7 +15,7 @@ from numbers import Integral, Real
 import numpy as np
 from scipy.linalg import eigh
 from scipy.special import logsumexp
-from sklearn.base import BaseEstimator, ClusterMixin, _fit_context
+from sklearn.base import BaseEstimator, ClusterMixin, _fit_context, clone
 from sklearn.cluster import KMeans
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils import check_random_state
@@ -30,6 +30,7 @@ from sklearn_gpca._affinity import (
     normalized_cut,
     sign_invariant_neighbors,
 )
+from sklearn_gpca._coding_length import coding_length
 from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._polynomials import (
@@ -48,6 +49,9 @@ from sklearn_gpca._veronese import (
     veronese_exponents,
 )
 
+# Distortion (root mean squared error per unit point) of the coding length
+# that picks the number of subspaces with n_clusters="auto".
+_CODING_DISTORTION = 0.03
 # Sine distances below this floor count as a perfect fit in ``score``.
 _SCORE_FLOOR = 1e-6
 
@@ -115,9 +119,16 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
 
     Parameters
     ----------
-    n_clusters : int, default=2
+    n_clusters : int or "auto", default=2
         Number of subspaces ``n``, which is also the degree of the fitted
-        polynomial.
+        polynomial. ``"auto"`` (beyond the paper) fits every ``n`` from 1 to
+        ``max_clusters`` and keeps the segmentation with the shortest lossy
+        coding length of the (unit) points (Ma et al., PAMI 2007) at
+        distortion 0.03; see ``n_clusters_`` and ``coding_lengths_``.
+    max_clusters : int, default=5
+        Largest number of subspaces tried by ``n_clusters="auto"``; ignored
+        otherwise. Values whose Veronese embedding needs more points than
+        there are are skipped.
     normalize : bool, default=True
         Scale every point to unit norm first. Subspaces are linear, so this
         changes no subspace; it equalises the weight of the points in the
@@ -199,6 +210,13 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
 
     Attributes
     ----------
+    n_clusters_ : int
+        Number of subspaces fitted: ``n_clusters``, or the one chosen by
+        ``n_clusters="auto"``.
+    coding_lengths_ : ndarray of shape (max_clusters,)
+        With ``n_clusters="auto"`` only: the coding length in bits of the
+        segmentation into ``n = 1 .. max_clusters`` subspaces (``inf`` where
+        skipped for lack of points).
     labels_ : ndarray of shape (n_samples,), dtype=intp
         Subspace label of each training point, in ``0 .. n_clusters - 1``;
         all-zero rows get 0.
@@ -359,7 +377,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     """
 
     _parameter_constraints: dict = {
-        "n_clusters": [Interval(Integral, 1, None, closed="left")],
+        "n_clusters": [
+            Interval(Integral, 1, None, closed="left"),
+            StrOptions({"auto"}),
+        ],
+        "max_clusters": [Interval(Integral, 1, None, closed="left")],
         "normalize": ["boolean"],
         "affinity": [StrOptions({"local", "polynomial", "polynomials"})],
         "n_neighbors": [Interval(Integral, 1, None, closed="left"), None],
@@ -385,6 +407,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self,
         n_clusters=2,
         *,
+        max_clusters=5,
         normalize=True,
         affinity="local",
         n_neighbors=30,
@@ -402,6 +425,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         random_state=None,
     ):
         self.n_clusters = n_clusters
+        self.max_clusters = max_clusters
         self.normalize = normalize
         self.affinity = affinity
         self.n_neighbors = n_neighbors
@@ -481,6 +505,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             Fitted estimator.
         """
         X = self._validate_X(X, reset=True)
+        if self.n_clusters == "auto":
+            return self._fit_auto(X)
         nonzero = self._nonzero_rows(X)
         if self.affinity_power != 1 and self.n_neighbors is None:
             raise ValueError(
@@ -550,6 +576,36 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self.labels_ = np.zeros(X.shape[0], dtype=np.intp)
         self.labels_[nonzero] = labels
         self.n_spectral_samples_ = n_points if sample is None else sample.size
+        self.n_clusters_ = n_clusters
+        return self
+
+    def _fit_auto(self, X):
+        """``n_clusters="auto"``: the fit of ``1 .. max_clusters`` subspaces
+        whose segmentation codes the unit points in the fewest bits."""
+        lengths = np.full(self.max_clusters, np.inf)
+        unit = _unit_rows(X)
+        models = {}
+        for n_clusters in range(1, self.max_clusters + 1):
+            model = clone(self).set_params(n_clusters=n_clusters)
+            try:
+                model.fit(X)
+            except ValueError as error:
+                if "too few for the Veronese" not in str(error) or n_clusters == 1:
+                    raise
+                break  # higher degrees need even more points
+            models[n_clusters] = model
+            lengths[n_clusters - 1] = coding_length(
+                unit, model.labels_, _CODING_DISTORTION
+            )
+        best = models[int(np.argmin(lengths)) + 1]
+        fitted = {
+            name: value
+            for name, value in vars(best).items()
+            if name.endswith("_")
+            and name not in ("n_features_in_", "feature_names_in_")
+        }
+        vars(self).update(fitted)
+        self.coding_lengths_ = lengths
         return self
 
     def _segment(self, points, subspace_dim, random_state):
@@ -818,6 +874,6 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         X = self._validate_X(X, reset=False)
         n_samples, n_features = X.shape
         log_density = -np.log(self._sine_distances(X) + _SCORE_FLOOR)
-        fit = np.mean(logsumexp(log_density, axis=1)) - np.log(self.n_clusters)
-        n_params = self.n_clusters * (n_features - 1)
+        fit = np.mean(logsumexp(log_density, axis=1)) - np.log(self.n_clusters_)
+        n_params = self.n_clusters_ * (n_features - 1)
         return float(fit - n_params * np.log(n_samples) / (2 * n_samples))
