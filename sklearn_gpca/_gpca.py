@@ -679,6 +679,9 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
                 self.n_iter_ = max(self.n_iter_, n_iter)
                 converged = converged and settled
             candidates = refined
+        # kept for diagnostics (benchmarks/bench_selection.py); on the
+        # subsample when there is one, so at most max_spectral_samples each
+        self._candidate_labels = candidates
         if len(candidates) > 1:
             # normalised cut on the polynomial-normal graph, an affinity the
             # candidates were not all built from, picks the segmentation
