@@ -19,8 +19,8 @@ from pathlib import Path
 
 import numpy as np
 
-#: Candidate numbers of motions for ``--n-motions auto``.
-AUTO_N_MOTIONS = (2, 3, 4, 5)
+#: Largest number of motions tried by ``--n-motions auto``.
+AUTO_MAX_MOTIONS = 5
 
 #: Least number of frames for a trajectory file.
 MIN_FRAMES = 3
@@ -271,26 +271,12 @@ def _pipeline(n_motions, rank, random_state):
 
 
 def _fit(X, n_motions, rank, random_state):
-    """Fitted pipeline and labels; ``n_motions="auto"`` picks the best score."""
-    if n_motions != "auto":
-        pipeline = _pipeline(n_motions, rank, random_state)
-        return pipeline, pipeline.fit_predict(X), {}
-    scores, best = {}, None
-    for n in AUTO_N_MOTIONS:
-        pipeline = _pipeline(n, rank, random_state)
-        try:
-            labels = pipeline.fit_predict(X)
-        except ValueError:  # too few points for this degree
-            continue
-        scores[n] = pipeline.score(X)
-        if best is None or scores[n] > scores[best[0]]:
-            best = (n, pipeline, labels)
-    if best is None:
-        raise UsageError(
-            f"{X.shape[0]} trajectories are too few to choose the number of "
-            "motions; pass --n-motions N"
-        )
-    return best[1], best[2], scores
+    """Fitted pipeline and labels; ``n_motions="auto"`` lets GPCAClustering
+    choose ``1 .. AUTO_MAX_MOTIONS`` by coding length."""
+    pipeline = _pipeline(n_motions, rank, random_state)
+    if n_motions == "auto":
+        pipeline[-1].set_params(max_clusters=AUTO_MAX_MOTIONS)
+    return pipeline, pipeline.fit_predict(X)
 
 
 def _segment(args):
@@ -306,11 +292,11 @@ def _segment(args):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            pipeline, labels, scores = _fit(X, args.n_motions, args.rank, args.seed)
+            pipeline, labels = _fit(X, args.n_motions, args.rank, args.seed)
     except ValueError as exc:
         raise UsageError(f"{args.file}: {exc}") from exc
     seconds = time.perf_counter() - start
-    n_motions = pipeline[-1].n_clusters
+    n_motions = pipeline[-1].n_clusters_
 
     if args.output is not None:
         try:
@@ -326,9 +312,12 @@ def _segment(args):
         f"GPCAClustering(n_clusters={n_motions}))\n"
     )
     motions = f"{n_motions}"
-    if scores:
-        chosen = ", ".join(f"{n}: {s:.3f}" for n, s in scores.items())
-        motions += f" (auto, by GPCAClustering.score: {chosen})"
+    if args.n_motions == "auto":
+        bits = pipeline[-1].coding_lengths_
+        chosen = ", ".join(
+            f"{n}: {b:.0f}" for n, b in enumerate(bits, start=1) if np.isfinite(b)
+        )
+        motions += f" (auto, coding length in bits: {chosen})"
     rows = [
         ("trajectories", f"{n_points}"),
         ("frames", f"{n_frames}"),
@@ -462,8 +451,8 @@ def build_parser():
         type=_n_motions,
         required=True,
         metavar="N",
-        help="number of motions, or 'auto' to choose among 2..5 by "
-        "GPCAClustering.score",
+        help="number of motions, or 'auto' to choose among 1..5 by "
+        "GPCAClustering(n_clusters='auto') (shortest coding length)",
     )
     segment.add_argument(
         "--rank",

@@ -121,7 +121,7 @@ def test_segment_auto_and_plot(tmp_path, capsys):
     status = main(["segment", str(path), "--n-motions", "auto", "--plot", str(plot)])
     assert status == 0
     rows = summary(capsys.readouterr().out)
-    assert rows["motions"].startswith("3 (auto")
+    assert rows["motions"].startswith("3 (auto, coding length in bits: 1: ")
     assert plot.stat().st_size > 0
     assert plot.read_bytes()[:4] == b"\x89PNG"
 
