@@ -301,7 +301,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     a space of dimension greater than one and the gradient of a single one of
     them varies along each subspace, so the segmentation degrades (e.g. two
     2-D planes in ``R^5``); several polynomials are needed then (section 2.2.4,
-    "Modelling low-dimension subspaces").
+    "Modelling low-dimension subspaces"): ``affinity="polynomials"`` takes the
+    ``n_polynomials_`` least singular vectors of ``W~`` (their number from the
+    largest gap of its log singular values) and, at each point, the span of
+    their gradients (singular values above ``rank_tol`` times the largest) as
+    the normal subspace ``N_i``, compared through ``tr(P_i P_j)`` as below.
     Points whose gradient vanishes, e.g. on the intersection of two subspaces,
     carry no normal information and are labelled arbitrarily.
 
