@@ -340,7 +340,26 @@ def test_init_candidates(init):
     assert model.init_scores_.shape == (n_candidates,)
     assert 0 <= model.init_chosen_ < n_candidates
     if init == "multi":
-        assert model.init_scores_[model.init_chosen_] == model.init_scores_.min()
+        residuals = model.init_residuals_
+        admissible = residuals <= 3 * residuals.min()
+        assert admissible[model.init_chosen_]
+        assert (
+            model.init_scores_[model.init_chosen_]
+            == model.init_scores_[admissible].min()
+        )
+
+
+def test_fit_gate_rejects_merged_motions():
+    """The normalised cut alone would merge two overlapping motions and split
+    the third; that candidate's hyperplanes fit > 3 times worse and is gated."""
+    X, y = make_motions(3, n_points=600, n_frames=10, random_state=6)
+    Z = PowerFactorization(random_state=0).fit_transform(X)
+    model = GPCAClustering(3, random_state=0).fit(Z)
+    assert misclassification_rate(y, model.labels_) <= 0.05
+    ungated = int(np.argmin(model.init_scores_))
+    assert ungated != model.init_chosen_
+    assert model.init_residuals_[ungated] > 3 * model.init_residuals_.min()
+    assert misclassification_rate(y, model._candidate_labels[ungated]) > 0.1
 
 
 def test_init_multi_without_coarse_scale():
