@@ -122,9 +122,8 @@ def test_motions_are_min_angle_apart(seed, n_motions, n_frames, motion_type, dep
     assert min(angles.values()) >= 10.0 - 1e-6
 
 
-def test_scaling_benchmark_draw_is_separable():
-    # The draw of benchmarks/bench_scaling.py once held two motions 7 degrees
-    # apart (principal angles 7, 3.2, 0.2, 0.04), which no method separates.
+def _scaling_benchmark_draw(**kwargs):
+    """The 10,000-point draw of benchmarks/bench_scaling.py, noise free."""
     _, y, X = make_motions(
         3,
         n_points=10000,
@@ -133,7 +132,15 @@ def test_scaling_benchmark_draw_is_separable():
         missing=0.1,
         return_complete=True,
         random_state=0,
+        **kwargs,
     )
+    return X, y
+
+
+def test_scaling_benchmark_draw_is_separable():
+    # The draw of benchmarks/bench_scaling.py once held two motions 7 degrees
+    # apart (principal angles 7, 3.2, 0.2, 0.04), which no method separates.
+    X, y = _scaling_benchmark_draw()
     angles = largest_angles(X, y, [4, 4, 4])
     assert min(angles.values()) >= 10.0
     # The same motions as with the benchmark's noise: only later draws differ.
@@ -145,16 +152,7 @@ def test_scaling_benchmark_draw_is_separable():
 
 def test_min_angle_zero_keeps_close_motions():
     # Without the check, the benchmark draw keeps its two close motions.
-    _, y, X = make_motions(
-        3,
-        n_points=10000,
-        n_frames=10,
-        noise=0.0,
-        missing=0.1,
-        return_complete=True,
-        min_angle=0.0,
-        random_state=0,
-    )
+    X, y = _scaling_benchmark_draw(min_angle=0.0)
     assert min(largest_angles(X, y, [4, 4, 4]).values()) < 10.0
 
 
