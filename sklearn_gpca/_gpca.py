@@ -273,7 +273,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     coef_ : ndarray of shape (n_monomials,)
         Unit-norm coefficients ``c`` of the fitted polynomial
         ``p(w) = c^T nu_n(w)``, one per row of ``exponents_``.
-    polynomials_ : ndarray of shape (n_polynomials_, n_monomials)
+    polynomials_ : ndarray of shape (n_polynomials, n_monomials)
         Orthonormal coefficients of the vanishing polynomials: the right
         singular vectors of the embedded data for its ``n_polynomials_``
         smallest singular values, the first being ``coef_``.
