@@ -195,9 +195,10 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         polynomial-normal graph -- each split into ``n_clusters`` clusters
         and into ``n_clusters + 1`` clusters greedily merged back (recovers a
         small motion that the plain split would share out); each candidate is
-        refined and the one with the smallest normalised cut on the
-        polynomial-normal kNN graph kept (see Notes). About four times the
-        cost of ``"spectral"``.
+        refined and, among those whose subspaces fit the points no more than 3
+        times worse than the best one, the one with the smallest normalised
+        cut on the polynomial-normal kNN graph kept (see Notes). About three
+        times the cost of ``"spectral"``.
     assign_labels : {"kmeans"}, default="kmeans"
         How the spectral embedding is turned into labels: k-means on the
         row-normalised eigenvectors (Ng, Jordan & Weiss).
