@@ -614,19 +614,26 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         whose segmentation codes the unit points in the fewest bits."""
         lengths = np.full(self.max_clusters, np.inf)
         unit = _unit_rows(X)
-        models = {}
+        models, caught = {}, {}
         for n_clusters in range(1, self.max_clusters + 1):
             model = clone(self).set_params(n_clusters=n_clusters)
             try:
-                model.fit(X)
+                with warnings.catch_warnings(record=True) as records:
+                    warnings.simplefilter("always")
+                    model.fit(X)
             except ValueError as error:
                 if "too few for the Veronese" not in str(error) or n_clusters == 1:
                     raise
                 break  # higher degrees need even more points
+            # the same warning (e.g. all-zero rows) once, not once per fit
+            for record in records:
+                caught.setdefault((record.category, str(record.message)), record)
             models[n_clusters] = model
             lengths[n_clusters - 1] = coding_length(
                 unit, model.labels_, _CODING_DISTORTION
             )
+        for (category, message), _ in caught.items():
+            warnings.warn(message, category, stacklevel=3)
         best = models[int(np.argmin(lengths)) + 1]
         fitted = {
             name: value

@@ -87,3 +87,13 @@ def test_fixed_n_clusters_sets_n_clusters_():
 def test_bad_n_clusters_names_auto(bad):
     with pytest.raises(ValueError, match="'n_clusters' parameter"):
         GPCAClustering(bad).fit(np.random.RandomState(0).randn(30, 5))
+
+
+def test_auto_warns_once_about_zero_rows():
+    X, _ = make_motions(2, n_points=100, random_state=0)
+    Z = PowerFactorization(random_state=0).fit_transform(X)
+    Z = np.vstack([Z, np.zeros((2, Z.shape[1]))])
+    with pytest.warns(UserWarning, match="all-zero") as records:
+        model = GPCAClustering("auto", max_clusters=3, random_state=0).fit(Z)
+    assert sum("all-zero" in str(r.message) for r in records) == 1
+    assert model.labels_.shape == (102,)
