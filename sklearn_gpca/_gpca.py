@@ -30,6 +30,7 @@ from sklearn_gpca._affinity import (
     normalized_cut,
     sign_invariant_neighbors,
 )
+from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._coding_length import coding_length
 from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
 from sklearn_gpca._missing import describe_indices
@@ -37,7 +38,6 @@ from sklearn_gpca._polynomials import (
     embedded_spectrum,
     null_space_dimension,
     polynomial_normal_bases,
-    row_chunks,
 )
 from sklearn_gpca._spectral import (
     normal_subspace_features,

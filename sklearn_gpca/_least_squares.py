@@ -4,12 +4,12 @@
 
 import numpy as np
 
+from sklearn_gpca._chunks import row_chunks
+
 # Relative Tikhonov damping added to every small normal-equation system, so
 # that a numerically singular system never raises ``LinAlgError`` deep inside
 # a batched solve. It is far below the accuracy of any measurement.
 _RIDGE = 1e-12
-# Rows per batched solve: bounds the (rows, r, r) temporaries whatever n_rows.
-_CHUNK_ROWS = 2**16
 
 
 def fit_rows(X0, mask, basis):
@@ -41,8 +41,7 @@ def fit_rows(X0, mask, basis):
     # over chunks of rows so that memory stays O(n_rows r)
     outer = (basis[:, None, :] * basis[None, :, :]).reshape(r * r, n_cols)
     Z = np.empty_like(rhs)
-    for start in range(0, X0.shape[0], _CHUNK_ROWS):
-        rows = slice(start, start + _CHUNK_ROWS)
+    for rows in row_chunks(X0.shape[0]):
         gram = (mask[rows] @ outer.T).reshape(-1, r, r)
         damping = _RIDGE * np.trace(gram, axis1=1, axis2=2) / r + np.finfo(float).tiny
         gram[:, np.arange(r), np.arange(r)] += damping[:, None]

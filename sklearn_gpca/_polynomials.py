@@ -16,17 +16,8 @@ points.
 import numpy as np
 from scipy.linalg import eigh
 
+from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._veronese import polynomial_gradients, veronese_map
-
-# Rows per chunk when the Veronese embedding of all points is reduced to its
-# Gram matrix: bounds the temporaries whatever the number of points.
-CHUNK_ROWS = 2**16
-
-
-def row_chunks(n_samples, size=CHUNK_ROWS):
-    """Slices of at most ``size`` consecutive rows covering ``n_samples``."""
-    for start in range(0, n_samples, size):
-        yield slice(start, min(start + size, n_samples))
 
 
 def embedded_spectrum(points, degree):

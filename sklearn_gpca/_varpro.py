@@ -16,6 +16,7 @@ import numpy as np
 from scipy import linalg, sparse
 
 from sklearn_gpca import _als
+from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._least_squares import _RIDGE
 
 # Floats per temporary of shape (rows in a chunk, n_features, n_features) in
@@ -312,7 +313,9 @@ class _Layout:
             hessian4[idx, idx] -= upper[idx, idx]
         else:
             hessian4 = np.zeros((n_features, n_features, r * r))
-            for rows in _chunks(n_samples, n_features):
+            # each row holds an (n_features, n_features) block
+            size = max(1, _CHUNK_FLOATS // (n_features * n_features))
+            for rows in row_chunks(n_samples, size):
                 m = self.mask[rows]
                 VC = np.einsum("jk,ikl->ijl", V, inv_gram[rows])
                 K = VC @ V.T
@@ -332,9 +335,3 @@ class _Layout:
         residual *= self.mask
         gradient = residual.T @ U
         return hessian, gradient
-
-
-def _chunks(n_samples, n_features):
-    size = max(1, _CHUNK_FLOATS // (n_features * n_features))
-    for start in range(0, n_samples, size):
-        yield slice(start, min(start + size, n_samples))
