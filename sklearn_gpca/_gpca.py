@@ -614,25 +614,23 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         whose segmentation codes the unit points in the fewest bits."""
         lengths = np.full(self.max_clusters, np.inf)
         unit = _unit_rows(X)
+        n_nonzero = np.count_nonzero(np.any(X, axis=1))
         models, caught = {}, {}
         for n_clusters in range(1, self.max_clusters + 1):
+            # degree n needs n_monomials - 1 points (n = 1 raises the error)
+            if n_clusters > 1 and n_monomials(X.shape[1], n_clusters) - 1 > n_nonzero:
+                break
             model = clone(self).set_params(n_clusters=n_clusters)
-            try:
-                with warnings.catch_warnings(record=True) as records:
-                    warnings.simplefilter("always")
-                    model.fit(X)
-            except ValueError as error:
-                if "too few for the Veronese" not in str(error) or n_clusters == 1:
-                    raise
-                break  # higher degrees need even more points
+            with warnings.catch_warnings(record=True) as records:
+                warnings.simplefilter("always")
+                model.fit(X)
             # the same warning (e.g. all-zero rows) once, not once per fit
-            for record in records:
-                caught.setdefault((record.category, str(record.message)), record)
+            caught.update(dict.fromkeys((r.category, str(r.message)) for r in records))
             models[n_clusters] = model
             lengths[n_clusters - 1] = coding_length(
                 unit, model.labels_, _CODING_DISTORTION
             )
-        for (category, message), _ in caught.items():
+        for category, message in caught:
             warnings.warn(message, category, stacklevel=3)
         best = models[int(np.argmin(lengths)) + 1]
         fitted = {
@@ -652,6 +650,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         whether the refinement converged.
         """
         n_clusters = self.n_clusters
+        unit = _unit_rows(points)
         neighbors = local = None
         if self.n_neighbors is not None or self.refine or self.affinity == "local":
             n_neighbors = min(
@@ -662,9 +661,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             n_search = n_neighbors
             if self.init == "multi" and self.n_neighbors is not None:
                 n_search = min(_coarse(n_neighbors), points.shape[0] - 1)
-            searched = sign_invariant_neighbors(
-                _unit_rows(points), n_search, n_jobs=self.n_jobs
-            )
+            searched = sign_invariant_neighbors(unit, n_search, n_jobs=self.n_jobs)
             neighbors = searched[:, :n_neighbors]
             local = neighbors[:, : max(n_neighbors // 3, 1)]
 
@@ -673,14 +670,13 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             bases, codims = normals[:, :, None], np.ones(points.shape[0], np.intp)
         elif self.affinity == "polynomials":
             bases, codims = polynomial_normal_bases(
-                _unit_rows(points), self.polynomials_.T, n_clusters, self.rank_tol
+                unit, self.polynomials_.T, n_clusters, self.rank_tol
             )
             normals = bases[:, :, 0]
         else:
-            bases, codims = local_normal_bases(_unit_rows(points), local, self.rank_tol)
+            bases, codims = local_normal_bases(unit, local, self.rank_tol)
             normals = bases[:, :, 0]
 
-        unit = _unit_rows(points)
         refine_kwargs = dict(
             neighbors=local if self.refine else None,
             smoothing=self.smoothing,
@@ -704,7 +700,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             ]
         else:
             candidates, poly_graph = self._spectral_candidates(
-                points, bases, codims, searched, random_state
+                unit, bases, codims, searched, random_state
             )
         if self.refine:
             refined = []
@@ -809,7 +805,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             n_clusters, n_init=self.n_init, random_state=random_state
         ).fit_predict(_unit_rows(embedding))
 
-    def _spectral_candidates(self, points, bases, codims, searched, random_state):
+    def _spectral_candidates(self, unit, bases, codims, searched, random_state):
         """Initial segmentations from the sparse graphs, and the polynomial graph.
 
         ``init="spectral"``: spectral clustering of the ``affinity`` graph.
@@ -820,10 +816,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         split into ``n_clusters`` clusters and into ``n_clusters + 1``
         clusters merged back by :func:`merge_clusters`. The ``n_clusters + 1``
         leading eigenvectors of each graph are computed once; their first
-        ``n_clusters`` give the plain embedding. ``searched`` holds the sorted
-        neighbours at the largest scale needed.
+        ``n_clusters`` give the plain embedding. ``unit`` are the points
+        scaled to unit norm, ``searched`` their sorted neighbours at the
+        largest scale needed.
         """
-        n_samples, n_features = points.shape
+        n_samples, n_features = unit.shape
         n_clusters = self.n_clusters
         n_neighbors = min(self.n_neighbors, n_samples - 1)
         neighbors = searched[:, :n_neighbors]
@@ -839,7 +836,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         if self.affinity == "polynomial":
             poly_graph = graph
         else:
-            gradients = _unit_gradients(points, self.coef_, n_clusters)
+            gradients = _unit_gradients(unit, self.coef_, n_clusters)
             poly_graph = normal_affinity_graph(
                 gradients[:, :, None], np.ones(n_samples), neighbors, power
             )
@@ -847,7 +844,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         if searched.shape[1] > n_neighbors:
             if self.affinity == "local":
                 coarse_bases, coarse_codims = local_normal_bases(
-                    _unit_rows(points),
+                    unit,
                     searched[:, : max(searched.shape[1] // 3, 1)],
                     self.rank_tol,
                 )
