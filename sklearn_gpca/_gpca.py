@@ -32,7 +32,12 @@ from sklearn_gpca._affinity import (
 )
 from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._coding_length import coding_length
-from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
+from sklearn_gpca._ksubspaces import (
+    fit_subspace,
+    refine_ksubspaces,
+    sine_residuals,
+    smoothed_cost,
+)
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._polynomials import (
     embedded_spectrum,
@@ -779,10 +784,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         scale = np.median(
             sine_residuals(unit[sample], bases)[np.arange(sample.size), labels]
         )
-        cost = residuals / max(scale, np.finfo(np.float64).tiny)
-        if self.smoothing > 0:
-            agree = (full[neighbors[others]][:, :, None] == classes).sum(axis=1)
-            cost += self.smoothing * (neighbors.shape[1] - agree)
+        neighbor_labels = full[neighbors[others]] if self.smoothing > 0 else None
+        cost = smoothed_cost(residuals, scale, neighbor_labels, self.smoothing)
         full[others] = np.argmin(cost, axis=1)
         if not self.refine:
             return full, True

@@ -55,6 +55,34 @@ def sine_residuals(points, bases):
     )
 
 
+def smoothed_cost(residuals, scale, neighbor_labels, smoothing):
+    """Cost of giving each point each label in smoothed K-subspaces.
+
+    Parameters
+    ----------
+    residuals : ndarray of shape (n_points, n_subspaces)
+        Squared sine distances of the points to the subspaces.
+    scale : float
+        Their typical size (the median over the points of the distance to
+        their own subspace).
+    neighbor_labels : ndarray of shape (n_points, n_local)
+        Current labels of each point's neighbours.
+    smoothing : float
+        Weight of one disagreeing neighbour, in units of ``scale``.
+
+    Returns
+    -------
+    cost : ndarray of shape (n_points, n_subspaces)
+        ``residuals / scale + smoothing * #{neighbours with another label}``.
+    """
+    cost = residuals / max(scale, np.finfo(np.float64).tiny)
+    if smoothing > 0:
+        classes = np.arange(residuals.shape[1])
+        agree = (neighbor_labels[:, :, None] == classes).sum(axis=1)
+        cost = cost + smoothing * (neighbor_labels.shape[1] - agree)
+    return cost
+
+
 def refine_ksubspaces(
     points,
     labels,
@@ -117,10 +145,8 @@ def refine_ksubspaces(
             bases.append(fit_subspace(members, subspace_dim, rank_tol))
         residuals = sine_residuals(points, bases)
         scale = np.median(residuals[np.arange(n_points), labels])
-        cost = residuals / max(scale, np.finfo(np.float64).tiny)
-        if smoothing > 0:
-            agree = (labels[neighbors][:, :, None] == classes).sum(axis=1)
-            cost = cost + smoothing * (neighbors.shape[1] - agree)
+        neighbor_labels = labels[neighbors] if smoothing > 0 else None
+        cost = smoothed_cost(residuals, scale, neighbor_labels, smoothing)
         new_labels = np.argmin(cost, axis=1).astype(np.intp)
         # synchronous updates of the Potts term can settle into a 2-cycle
         if np.array_equal(new_labels, labels) or np.array_equal(new_labels, previous):
