@@ -12,7 +12,6 @@ singular vectors of ``D^{-1/2} Phi``.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-from scipy.linalg import eigh
 from sklearn.cluster import KMeans
 
 _TINY = np.finfo(np.float64).tiny
@@ -87,28 +86,6 @@ def spectral_embedding_lowrank(features, n_components):
     return _normalize_rows(left)
 
 
-def spectral_embedding_dense(affinity, n_components):
-    """Dense reference for :func:`spectral_embedding_lowrank` (tests only).
-
-    Parameters
-    ----------
-    affinity : ndarray of shape (n_samples, n_samples)
-        Symmetric non-negative affinity ``S``.
-    n_components : int
-        Number of leading eigenvectors kept.
-
-    Returns
-    -------
-    embedding : ndarray of shape (n_samples, n_components)
-        Leading eigenvectors of ``D^{-1/2} S D^{-1/2}``, rows of unit norm.
-    """
-    affinity = np.asarray(affinity, dtype=np.float64)
-    inv_sqrt = 1.0 / np.sqrt(np.maximum(affinity.sum(axis=1), _TINY))
-    normalized = affinity * inv_sqrt[:, None] * inv_sqrt[None, :]
-    _, vectors = eigh(normalized)
-    return _normalize_rows(vectors[:, ::-1][:, :n_components])
-
-
 def _assign_labels(embedding, n_clusters, n_init, random_state):
     if n_clusters == 1:
         return np.zeros(embedding.shape[0], dtype=np.intp)
@@ -146,14 +123,4 @@ def spectral_clustering_lowrank(features, n_clusters, *, n_init=10, random_state
     array([0., 0., 0.])
     """
     embedding = spectral_embedding_lowrank(features, n_clusters)
-    return _assign_labels(embedding, n_clusters, n_init, random_state)
-
-
-def spectral_clustering_dense(affinity, n_clusters, *, n_init=10, random_state=None):
-    """Dense reference for :func:`spectral_clustering_lowrank` (tests only).
-
-    Same algorithm on an explicit ``(n_samples, n_samples)`` affinity, with
-    ``eigh`` instead of the thin SVD of the factor.
-    """
-    embedding = spectral_embedding_dense(affinity, n_clusters)
     return _assign_labels(embedding, n_clusters, n_init, random_state)

@@ -5,16 +5,30 @@
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
-from sklearn.cluster import SpectralClustering
+from scipy.linalg import eigh
+from sklearn.cluster import KMeans, SpectralClustering
 from sklearn.metrics import adjusted_rand_score
 
 from sklearn_gpca._spectral import (
     normal_subspace_features,
-    spectral_clustering_dense,
     spectral_clustering_lowrank,
-    spectral_embedding_dense,
     spectral_embedding_lowrank,
 )
+
+
+def spectral_embedding_dense(affinity, n_components):
+    """Dense reference: leading eigenvectors of ``D^{-1/2} S D^{-1/2}``, unit rows."""
+    inv_sqrt = 1.0 / np.sqrt(affinity.sum(axis=1))
+    _, vectors = eigh(affinity * inv_sqrt[:, None] * inv_sqrt[None, :])
+    vectors = vectors[:, ::-1][:, :n_components]
+    return vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
+
+
+def spectral_clustering_dense(affinity, n_clusters, random_state):
+    """Dense reference of spectral_clustering_lowrank (eigh, then k-means)."""
+    embedding = spectral_embedding_dense(affinity, n_clusters)
+    kmeans = KMeans(n_clusters=n_clusters, n_init=10, random_state=random_state)
+    return kmeans.fit_predict(embedding)
 
 
 def _noisy_normals(n_features, n_clusters, n_per_cluster, noise, seed):
