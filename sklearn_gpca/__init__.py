@@ -10,7 +10,7 @@ scikit-learn compatible estimators implementing and extending Vidal & Hartley,
 from sklearn_gpca._gpca import GPCAClustering
 from sklearn_gpca._motion import estimate_motions
 from sklearn_gpca._pipeline import paper_pipeline
-from sklearn_gpca._power_factorization import PowerFactorization
+from sklearn_gpca._power_factorization import PowerFactorization, power_factorization
 from sklearn_gpca._shape_interaction import (
     ShapeInteractionClustering,
     shape_interaction_matrix,
@@ -25,5 +25,6 @@ __all__ = [
     "__version__",
     "estimate_motions",
     "paper_pipeline",
+    "power_factorization",
     "shape_interaction_matrix",
 ]

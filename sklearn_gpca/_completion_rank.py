@@ -11,7 +11,8 @@ chosen by held-out error and then projects on the leading ``r`` directions.
 
 import numpy as np
 
-from sklearn_gpca import _als
+from sklearn_gpca._als import als
+from sklearn_gpca._multistart import random_basis
 
 # Entries held out to compare ranks, and the rows used for the comparison.
 _HELD_OUT = 0.1
@@ -71,15 +72,8 @@ def select_completion_rank(X0, mask, n_components, max_rank, random_state):
         best = min(errors.values(), default=np.inf)
         if len(errors) >= 2 and min(list(errors.values())[-2:]) > _SLACK * best:
             break  # two ranks in a row worse than the best: past the true rank
-        B, A, _, _ = _als.power_factorization(
-            X_train,
-            train,
-            rank,
-            max_iter=100,
-            tol=1e-6,
-            random_state=random_state,
-            log=_silent,
-        )
+        init = random_basis(X_train.shape[1], rank, random_state)
+        B, A, _, _ = als(X_train, train, init, max_iter=100, tol=1e-6, log=_silent)
         residual = (X_rows - B @ A.T)[held_out]
         errors[rank] = float(np.sqrt(np.mean(residual**2)))
     best = min(errors.values())
