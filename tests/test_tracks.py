@@ -380,3 +380,58 @@ def test_any_valid_parameters_give_consistent_data(
         seen, (frames >= info.birth[:, None]) & (frames < info.end[:, None])
     )
     assert np.all(np.isfinite(X[np.repeat(seen, 2, axis=1)]))
+
+
+def test_frame_rate_resamples_the_same_motion():
+    kwargs = {"scene": "driving", "n_tracks": 60, "random_state": 7}
+    _, _, slow = make_tracks(n_frames=20, frame_rate=10, return_info=True, **kwargs)
+    _, _, fast = make_tracks(n_frames=39, frame_rate=20, return_info=True, **kwargs)
+    # The same native path (21 frames at 10 Hz), sampled twice as often.
+    assert_allclose(fast.camera_centres[::2], slow.camera_centres, atol=1e-12)
+    assert_allclose(fast.camera_rotations[::2], slow.camera_rotations, atol=1e-12)
+    assert_allclose(fast.object_centres[:, ::2], slow.object_centres, atol=1e-12)
+    # 8 m/s for 1.9 s along a gently turning road.
+    travelled = np.linalg.norm(np.diff(fast.camera_centres, axis=0), axis=1).sum()
+    assert 0.8 * 8 * 1.9 < travelled < 1.2 * 8 * 1.9
+
+
+def test_switching_outliers_follow_their_two_motions():
+    """Before the switch a drift or jump track follows its first motion exactly;
+    after it, a jump follows the second motion's positions and a drift its
+    displacements since the switch (continuous position)."""
+    X, _y, info = make_tracks(
+        scene="handheld",
+        n_tracks=300,
+        n_frames=40,
+        outlier_fraction=0.2,
+        camera="affine",
+        noise=0.0,
+        units="pixels",
+        random_state=0,
+        return_info=True,
+    )
+    M = info.motion_matrices.reshape(len(info.motion_matrices), -1, 2, 4)
+    checked = {"drift": 0, "jump": 0}
+    for p in np.flatnonzero(np.isin(info.kind, ["drift", "jump"])):
+        first, second = info.source_motions[p]
+        s, birth, end = info.switch_frame[p], info.birth[p], info.end[p]
+        track = X[p].reshape(-1, 2)
+        before = M[first, birth : s + 1].reshape(-1, 4)
+        assert residual_to_motion(track[birth : s + 1].ravel(), before) < 1e-9
+        after = M[second, s + 1 : end]
+        if info.kind[p] == "drift":
+            displacement = (track[s + 1 : end] - track[s]).ravel()
+            basis = (after - M[second, s]).reshape(-1, 4)
+            assert residual_to_motion(displacement, basis) < 1e-9
+            # ... which the positions do not follow (generically; 2 frames,
+            # 4 entries, fit any 4-dimensional subspace).
+            if end - s - 1 >= 3:
+                positions = track[s + 1 : end].ravel()
+                assert residual_to_motion(positions, after.reshape(-1, 4)) > 1e-6
+        else:
+            assert (
+                residual_to_motion(track[s + 1 : end].ravel(), after.reshape(-1, 4))
+                < 1e-9
+            )
+        checked[info.kind[p]] += 1
+    assert min(checked.values()) >= 5

@@ -10,7 +10,7 @@ and centre ``To[k, f]``). The static background is the world itself.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-from scipy.spatial.transform import Rotation
+from scipy.spatial.transform import Rotation, Slerp
 from sklearn.utils import Bunch
 
 #: Defaults of each scene, beside the real dataset it imitates. Numbers marked
@@ -29,7 +29,8 @@ SCENES = {
         "image_size": (1242, 375),  # verified: KITTI rectified images
         "focal_length": 721.5,  # verified: KITTI P_rect_02
         "depth_range": (8.0, 80.0),
-        "forward_speed": 0.8,  # metres per frame at 10 Hz: 29 km/h
+        "forward_speed": 8.0,  # metres per second: 29 km/h
+        "frame_rate": 10.0,  # verified: KITTI records at 10 Hz
         "noise": 0.5,
     },
     # FBMS-59 (Ochs, Malik & Brox, PAMI 2014): hand-held and film footage.
@@ -44,7 +45,8 @@ SCENES = {
         "image_size": (640, 480),
         "focal_length": 600.0,
         "depth_range": (3.0, 40.0),
-        "forward_speed": 0.01,
+        "forward_speed": 0.6,
+        "frame_rate": 30.0,
         "noise": 0.5,
     },
     # Hopkins155 (Tron & Vidal, CVPR 2007): complete tracks, weak perspective.
@@ -58,11 +60,16 @@ SCENES = {
         "mean_lifetime": None,
         "image_size": (640, 480),  # verified
         "focal_length": 800.0,
-        "depth_range": (2.5, 3.5),
+        "depth_range": (2.0, 3.5),
         "forward_speed": 0.0,
-        "noise": 0.5,
+        "frame_rate": 30.0,
+        "noise": 0.25,
     },
 }
+
+#: Frame rate (per second) at which each scene's motions are drawn; other
+#: frame rates resample the same motions.
+NATIVE_RATE = {scene: SCENES[scene]["frame_rate"] for scene in SCENES}
 
 #: Height of the camera above the ground plane (metres): KITTI's camera rig
 #: for "driving", eye level for "handheld"; "lab" scenes have no ground.
@@ -211,7 +218,7 @@ def _handheld(n_frames, n_objects, forward_speed, focal_length, image_size, rng)
         To.append(_integrate(start, speed[:, None] * direction))
         Ro.append(_yaw_matrices(obj_yaw))
 
-    lateral = rng.uniform(-0.01, 0.01)
+    lateral = rng.uniform(-0.02, 0.02)
     velocity = np.column_stack(
         [
             lateral + _smooth_noise(rng, n_frames, 0.003),
@@ -301,6 +308,14 @@ def _scene(Rc, C, dims, Ro, To, height, walls=None):
     )
 
 
+def _resample(rotations, centres, times):
+    """Poses at fractional native frames: Slerp rotations, linear centres."""
+    native = np.arange(centres.shape[0])
+    rotations = Slerp(native, Rotation.from_matrix(rotations))(times).as_matrix()
+    centres = np.column_stack([np.interp(times, native, c) for c in centres.T])
+    return rotations, centres
+
+
 def make_scene(
     scene,
     n_frames,
@@ -309,17 +324,37 @@ def make_scene(
     focal_length,
     image_size,
     depth_range,
+    frame_rate,
     rng,
 ):
-    """Camera path and object poses of one draw of ``scene``."""
+    """Camera path and object poses of one draw of ``scene``, ``n_frames``
+    frames at ``frame_rate`` per second (``forward_speed`` in metres per
+    second).
+
+    The scene is drawn at its native rate (``NATIVE_RATE``) and its poses are
+    resampled at the requested one.
+    """
+    native_rate = NATIVE_RATE[scene]
+    step = native_rate / frame_rate
+    n_native = int(np.floor((n_frames - 1) * step)) + 2
+    speed = forward_speed / native_rate
     if scene == "driving":
-        return _driving(
-            n_frames, n_objects, forward_speed, focal_length, image_size, rng
+        world = _driving(n_native, n_objects, speed, focal_length, image_size, rng)
+    elif scene == "handheld":
+        world = _handheld(n_native, n_objects, speed, focal_length, image_size, rng)
+    else:
+        world = _lab(
+            n_native, n_objects, speed, focal_length, image_size, rng, depth_range
         )
-    if scene == "handheld":
-        return _handheld(
-            n_frames, n_objects, forward_speed, focal_length, image_size, rng
-        )
-    return _lab(
-        n_frames, n_objects, forward_speed, focal_length, image_size, rng, depth_range
+    times = np.arange(n_frames) * step
+    world.camera_rotations, world.camera_centres = _resample(
+        world.camera_rotations, world.camera_centres, times
     )
+    rotations, centres = [], []
+    for Ro, To in zip(world.object_rotations, world.object_centres, strict=True):
+        Ro, To = _resample(Ro, To, times)
+        rotations.append(Ro)
+        centres.append(To)
+    world.object_rotations = np.array(rotations).reshape(-1, n_frames, 3, 3)
+    world.object_centres = np.array(centres).reshape(-1, n_frames, 3)
+    return world

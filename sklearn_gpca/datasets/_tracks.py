@@ -177,6 +177,7 @@ def _draw_once(scene, camera, p, counts, n_outliers, first_share, complete, rng)
         p["focal_length"],
         p["image_size"],
         p["depth_range"],
+        p["frame_rate"],
         rng,
     )
     cam = make_camera(
@@ -264,6 +265,7 @@ def _draw_once(scene, camera, p, counts, n_outliers, first_share, complete, rng)
         "image_size": ["array-like", None],
         "depth_range": ["array-like", None],
         "forward_speed": [Interval(Real, 0, None, closed="left"), None],
+        "frame_rate": [Interval(Real, 0, None, closed="neither"), None],
         "noise": [Interval(Real, 0, None, closed="left"), None],
         "units": [StrOptions({"normalized", "pixels"})],
         "shuffle": ["boolean"],
@@ -287,6 +289,7 @@ def make_tracks(
     image_size=None,
     depth_range=None,
     forward_speed=None,
+    frame_rate=None,
     noise=None,
     units="normalized",
     shuffle=True,
@@ -346,8 +349,11 @@ def make_tracks(
         calibrated so that the drawn tracks miss this fraction of the
         ``n_tracks x n_frames`` point-frames (within 0.005, usually a few
         entries). 0 gives complete tracks, every one seen in every frame.
-        A ``ValueError`` says when the scene's exits from the view alone
-        already miss more. Exclusive with ``mean_lifetime``.
+        Tracks leaving the view set a floor that grows with the sequence's
+        duration: a ``ValueError`` says when even endless lifetimes miss more
+        (then shorten the sequence, raise ``frame_rate`` or slow the camera;
+        ``benchmarks/results/tracks.md`` shows the floors). Exclusive with
+        ``mean_lifetime``.
 
     mean_lifetime : float >= 1, default=None
         Mean of the geometric lifetime of the tracks, in frames, instead of a
@@ -376,7 +382,12 @@ def make_tracks(
         stand in this range too.
 
     forward_speed : float >= 0, default=None
-        Camera speed along its optical axis, in metres per frame.
+        Mean camera speed along its heading, in metres per second.
+
+    frame_rate : float > 0, default=None
+        Frames per second. The scene's motions are drawn at its native rate
+        (the default) and resampled, so a higher rate gives the same motion
+        in more, closer frames.
 
     noise : float >= 0, default=None
         Standard deviation (pixels) of the Gaussian noise on every observed
@@ -419,8 +430,10 @@ def make_tracks(
           the image or went behind the camera), ``"occluded"`` (hidden by an
           object or turned away) or ``"sequence_end"``;
         - ``lifetime`` (n_tracks,): the drawn geometric lifetime, before the
-          view and the sequence cut it; ``mean_lifetime``: its mean (the
-          calibrated value when ``missing`` is the target);
+          view and the sequence cut it (-1 for complete tracks);
+          ``mean_lifetime``: its mean (the calibrated value when ``missing``
+          is the target; inf for complete tracks); ``first_frame_share``: the
+          share ``q`` of births in frame 0 (see Notes);
         - ``kind`` (n_tracks,): ``"inlier"``, ``"drift"``, ``"jump"`` or
           ``"random_walk"``; ``switch_frame`` (the last frame before an
           outlier's switch, -1 otherwise) and ``source_motions`` (n_tracks, 2)
@@ -458,53 +471,70 @@ def make_tracks(
     n_motions                 3         3         2
     n_tracks                  500       800       300
     n_frames                  20        100       30
+    frame_rate (per second)   10        30        30
     background_fraction       0.75      0.75      0.65
     outlier_fraction          0.05      0.03      0
-    missing                   0.4       0.5       0
+    missing                   --        0.5       0
+    mean_lifetime (frames)    40        --        --
     image_size                1242x375  640x480   640x480
     focal_length (pixels)     721.5     600       800
-    depth_range (metres)      4-60      3-40      2.5-3.5
-    forward_speed (m/frame)   0.8       0.01      0
-    noise (pixels)            0.5       0.5       0.5
+    depth_range (metres)      8-80      3-40      2-3.5
+    forward_speed (m/s)       8         0.6       0
+    noise (pixels)            0.5       0.5       0.25
     ========================  ========  ========  ========
 
     - ``"driving"``, KT3DMoSeg (Xu, Cheong & Li, CVPR 2018): 22 KITTI clips
       of 10-20 frames with 2-5 motions, chosen for strong camera translation
       (the dataset's README); KITTI's rectified images are 1242 x 375 pixels
       with a focal length of 721.5 pixels (``P_rect_02`` of the calibration
-      files), the camera rig stands 1.65 m above the road and records at
-      10 Hz (Geiger et al., IJRR 2013). Estimates: the speed (8 m/s, urban),
-      the number of tracks, the background share, the missing rate (the
-      dataset keeps tracks of 5 frames or more from a dense tracker; here the
-      short ones stay, as in raw tracker output) and the outlier rate.
+      files) and it records at 10 Hz (Geiger et al., IJRR 2013); its camera
+      stands about 1.65 m above the road. The street has facades 6-15 m to
+      either side, a road with few features (asphalt) and clutter at 8-80 m;
+      cars and cyclists drive ahead, beside or towards the camera. In
+      forward motion tracks leave the view fast, so the missing fraction
+      follows from the motion (a lifetime, not a target, is the default).
+      Estimates: the speed (8 m/s, urban), the number of tracks, the
+      background share, the lifetime and the outlier rate. KT3DMoSeg keeps
+      tracks of 5 frames or more from a dense tracker; here the short ones
+      stay, as in raw tracker output.
     - ``"handheld"``, FBMS-59 (Ochs, Malik & Brox, PAMI 2014): 59 sequences of
       hand-held and film footage, 19 to 800 frames, of people, animals and
       cars, with tracks born and lost all along (from the paper, not
-      rechecked here). Estimates: 100 frames, 30 frames per second (subjects
-      walk at 1-2 m/s), a 56-degree field of view, the rest as above.
+      rechecked here). The camera walks slowly and pans to keep one subject
+      in the middle third of the image. Estimates: 100 frames, 30 frames per
+      second, subjects walking at 1-2 m/s, a 56-degree field of view.
     - ``"lab"``, Hopkins155 (Tron & Vidal, CVPR 2007): 640 x 480 images; 120
       of the 155 sequences have 2 motions, 29.4 frames and 296 tracks on
       average, the largest group holds a median 65% of the tracks, and every
-      track is complete (all measured on the dataset's files). Estimates: the
-      focal length and depths, chosen for weak perspective.
+      track is complete (all measured on the dataset's files). Boxes of
+      10-30 cm slide and turn in front of a slowly moving camera. Estimates:
+      the focal length and depths (weak perspective); the noise is set so
+      that a rank-4 fit of each motion leaves about the RMS residual measured
+      on Hopkins155 (0.26 pixels, see ``benchmarks/results/tracks.md``).
 
     The outlier rates are estimates: the Hopkins155 sequences released with
     outliers have 13.9% outlier tracks and 29.5% missing entries on average
     (4 sequences, 54 frames, from their README); tracker output that has not
     been hand-cleaned has a few percent.
 
-    **Births and lifetimes.** A track is born in frame 0 with probability
-    ``m / (m + F - 1)`` and in each later frame with probability
-    ``1 / (m + F - 1)``, for the nominal mean lifetime ``m`` (the one that
-    gives ``missing`` with no exits): the stationary births of a tracker that
-    replaces its lost tracks. It is born at a point of its motion that is
-    visible in that frame (background points at a uniform pixel and a
-    log-uniform depth, object points uniformly on the visible faces of the
-    object's box) and lives ``L`` frames, ``P(L >= k) = (1 - 1/m)^(k-1)``
-    (geometric, mean ``m``, so ``P(L <= 2) ~ 2/m``: tracks of 1-2 frames
-    occur), unless it is lost first. The lifetime's mean is then calibrated
-    to ``missing``; with ``missing=0`` every track is born in frame 0 and
-    stays visible to the end.
+    **Births and lifetimes.** A tracker that keeps as many tracks alive in
+    every frame, replacing each lost track by a new one, starts a share ``q``
+    of its tracks in frame 0 and the rest in equal numbers in frames 1 ..
+    F-1; it observes ``N F`` of its ``P F`` entries with ``N = q P`` alive
+    per frame, so ``q = 1 - missing``. With a ``mean_lifetime`` ``m`` instead,
+    ``q = m / (m + F - 1)`` (no other losses). Where tracks leave the view so
+    fast that no lifetime reaches ``missing``, the tracker replaces fewer of
+    them: ``q`` moves towards 1 (``info.first_frame_share``). A track is born
+    at a point of its motion visible in that frame (background points at a
+    uniform pixel and a log-uniform depth, stopped by the ground and the
+    facades; object points uniformly on the visible faces of its box, in the
+    frames in proportion to how much of the box is visible) and lives ``L``
+    frames, ``P(L >= k) = (1 - 1/m)^(k-1)`` (geometric, mean ``m``, so
+    ``P(L <= 2) ~ 2/m``), unless it leaves the image, goes behind the camera,
+    turns away, is hidden by an object or the sequence ends first. With a
+    ``missing`` target, ``m`` is calibrated to it by bisection;
+    with ``missing=0`` every track is born in frame 0 and stays visible to
+    the end.
 
     **Outliers.** Half are *drift* tracks (the tracker slides from a point of
     one motion to another at frame ``s``: continuous position, switched
@@ -553,6 +583,7 @@ def make_tracks(
         image_size=image_size,
         depth_range=depth_range,
         forward_speed=forward_speed,
+        frame_rate=frame_rate,
         noise=noise,
     )
     F = p["n_frames"]
