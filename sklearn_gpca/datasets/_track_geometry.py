@@ -17,7 +17,7 @@ class UnseenMotionError(ValueError):
 
 
 # Rounds of rejection sampling before a motion is declared invisible.
-_MAX_ROUNDS = 30
+_MAX_ROUNDS = 20
 # Most candidate points drawn in one round of rejection sampling.
 _MAX_CANDIDATES = 200_000
 # Density of features on the ground relative to the rest of the background
@@ -215,14 +215,15 @@ def track_geometry(points, normals, motion, occluders, camera, scene):
 
 
 def visible_share(motion, occluders, camera, scene, rng, n_probes=256):
-    """Share of an object's surface visible in each frame (F,), from probe points.
+    """Share of an object's surface visible in each frame (F,), and visible in
+    every frame (a float), from probe points.
 
     A tracker finds features on what it sees: births of an object's tracks
-    are drawn in proportion to it.
+    are drawn in proportion to the first; complete tracks need the second.
     """
     probes, normals = _object_candidates(scene.object_sizes[motion - 1], n_probes, rng)
     geometry = track_geometry(probes, normals, motion, occluders, camera, scene)
-    return geometry.visible.mean(axis=0)
+    return geometry.visible.mean(axis=0), geometry.visible.all(axis=1).mean()
 
 
 def sample_points(
@@ -243,7 +244,7 @@ def sample_points(
             break
         # Several candidates per missing point, more each round, for motions
         # of which little is seen.
-        reps = int(min(2**attempt, 256, max(1, _MAX_CANDIDATES // todo.size)))
+        reps = int(min(2**attempt, 64, max(1, _MAX_CANDIDATES // todo.size)))
         slots = np.repeat(todo, reps)
         if motion == 0:
             candidates, keep = _background_candidates(

@@ -79,10 +79,10 @@ def calibrate_lifetime(uniform, min_length, max_length, n_frames, missing):
     floor = 1.0 - max_length.sum() / total
     if floor > missing + 0.005:
         raise ValueError(
-            f"missing={missing} cannot be reached: tracks leaving the view, being "
-            f"occluded or born late already miss {floor:.3f} of the entries with "
-            "endless lifetimes. Ask for more missing data, fewer frames, or a "
-            "slower camera (forward_speed)."
+            f"missing={missing} cannot be reached: tracks leaving the view or "
+            f"being occluded already miss {floor:.3f} of the entries with endless "
+            "lifetimes. Ask for more missing data, fewer frames, a higher "
+            "frame_rate or a slower camera (forward_speed)."
         )
     ceiling = missing_at(1.0)
     if ceiling < missing - 0.005:

@@ -66,8 +66,11 @@ def _switching(jump, shares, complete, first_share, context, rng):
         switch=np.zeros(n, dtype=np.int64),
         sources=np.zeros((n, 2), dtype=np.int64),
     )
-    probs = birth_probabilities(n_frames, first_share, last=n_frames - 2 * _SIDE - 1)
     todo = np.arange(n)
+    if n == 0:
+        out.failed = todo
+        return out
+    probs = birth_probabilities(n_frames, first_share, last=n_frames - 2 * _SIDE - 1)
     for _ in range(_MAX_ROUNDS):
         if todo.size == 0:
             break

@@ -29,9 +29,8 @@ from sklearn_gpca.datasets._track_scenes import SCENES, make_scene
 
 #: Most motions (background included) :func:`make_tracks` draws.
 MAX_MOTIONS = 10
-# Times the share of tracks born in frame 0 is moved halfway to 1 (then set
-# to 1) when the view's exits leave a missing target out of reach.
-_SHARE_STEPS = 6
+# Scenes drawn before a missing target is declared out of reach.
+_TARGET_SCENES = 5
 # Scenes drawn before giving up on one where every motion is seen, and the
 # least share of an object's surface that must be visible in some frame.
 _SCENE_ATTEMPTS = 20
@@ -191,11 +190,15 @@ def _draw_once(scene, camera, p, counts, n_outliers, first_share, complete, rng)
     geometries, births = [], []
     for k, count in enumerate(counts):
         probs = births_probs
-        if k and not complete:
-            probs = births_probs * visible_share(k, occluders, cam, world, rng)
-            if probs.max() < _MIN_VISIBLE_SHARE * births_probs.max():
-                raise UnseenMotionError(f"object {k} is almost never in view.")
-            probs = probs / probs.sum()
+        if k:
+            per_frame, throughout = visible_share(k, occluders, cam, world, rng)
+            if complete and throughout < _MIN_VISIBLE_SHARE:
+                raise UnseenMotionError(f"object {k} is almost never seen throughout.")
+            if not complete:
+                probs = births_probs * per_frame
+                if probs.max() < _MIN_VISIBLE_SHARE * births_probs.max():
+                    raise UnseenMotionError(f"object {k} is almost never in view.")
+                probs = probs / probs.sum()
         born = (
             np.zeros(count, dtype=np.int64)
             if complete
@@ -248,6 +251,48 @@ def _draw_once(scene, camera, p, counts, n_outliers, first_share, complete, rng)
         sources=sources,
         min_lengths=min_lengths,
     )
+
+
+def _missing_floor(d, n_frames):
+    """Missing fraction of the drawn tracks with endless lifetimes."""
+    return 1 - (d.exits - d.births).sum() / (d.births.size * n_frames)
+
+
+def _draw_for_target(scene, camera, p, counts, n_outliers, complete, rng):
+    """A draw whose exits from the view leave the missing target reachable.
+
+    A tracker replaces its lost tracks: a share ``1 - missing`` of them start
+    in frame 0 (:func:`first_frame_share`). Where tracks leave the view so
+    fast that no lifetime reaches the target, it replaces fewer: the share
+    moves halfway to 1, then to 1, in the same scene. A scene where even that
+    fails (every track born in frame 0 and never dying still misses more) is
+    drawn again, up to ``_TARGET_SCENES`` times; the calibration then says
+    how far off the last one is.
+    """
+    F = p["n_frames"]
+    share = first_frame_share(F, p["missing"], p["mean_lifetime"])
+    if p["missing"] is None or complete:
+        d = _draw(scene, camera, p, counts, n_outliers, share, complete, rng)
+        d.first_share = share
+        return d
+    target = p["missing"]
+    for _ in range(_TARGET_SCENES):
+        state = rng.get_state()
+        # Every track born in frame 0 first: the least the scene can miss.
+        d = _draw(scene, camera, p, counts, n_outliers, 1.0, complete, rng)
+        d.first_share = 1.0
+        if _missing_floor(d, F) > target:
+            continue
+        after = rng.get_state()
+        for q in (share, (1 + share) / 2):
+            rng.set_state(state)
+            candidate = _draw(scene, camera, p, counts, n_outliers, q, complete, rng)
+            if _missing_floor(candidate, F) <= target:
+                candidate.first_share = q
+                return candidate
+        rng.set_state(after)
+        return d
+    return d
 
 
 @validate_params(
@@ -524,7 +569,9 @@ def make_tracks(
     per frame, so ``q = 1 - missing``. With a ``mean_lifetime`` ``m`` instead,
     ``q = m / (m + F - 1)`` (no other losses). Where tracks leave the view so
     fast that no lifetime reaches ``missing``, the tracker replaces fewer of
-    them: ``q`` moves towards 1 (``info.first_frame_share``). A track is born
+    them: ``q`` moves halfway to 1, then to 1 (``info.first_frame_share``);
+    a scene in which even that misses more than ``missing`` is drawn again,
+    up to 5 times, so that targets near the floor favour calmer scenes. A track is born
     at a point of its motion visible in that frame (background points at a
     uniform pixel and a log-uniform depth, stopped by the ground and the
     facades; object points uniformly on the visible faces of its box, in the
@@ -595,18 +642,7 @@ def make_tracks(
         rng,
     )
     complete = p["missing"] == 0
-    # A tracker replaces lost tracks (first_frame_share); where exits from the
-    # view lose more than that accounts for, it replaces fewer: more of the
-    # tracks start in frame 0, until the missing target can be reached.
-    first_share = first_frame_share(F, p["missing"], p["mean_lifetime"])
-    state = rng.get_state()
-    for attempt in range(_SHARE_STEPS + 1):
-        rng.set_state(state)
-        d = _draw(scene, camera, p, counts, n_outliers, first_share, complete, rng)
-        floor = 1 - (d.exits - d.births).sum() / (d.births.size * F)
-        if p["missing"] is None or complete or floor <= p["missing"]:
-            break
-        first_share = 1 - (1 - first_share) / 2 if attempt < _SHARE_STEPS - 1 else 1.0
+    d = _draw_for_target(scene, camera, p, counts, n_outliers, complete, rng)
     pixels, in_view, births, exits = d.pixels, d.in_view, d.births, d.exits
     points, labels, kinds = d.points, d.labels, d.kinds
     switch, sources, min_lengths, world = d.switch, d.sources, d.min_lengths, d.world
@@ -661,7 +697,7 @@ def make_tracks(
         end_reason=_end_reasons(births, ends, exits, in_view, F)[order],
         lifetime=lifetimes[order],
         mean_lifetime=mean,
-        first_frame_share=first_share,
+        first_frame_share=d.first_share,
         kind=kinds.astype(str)[order],
         switch_frame=switch[order],
         source_motions=sources[order],
