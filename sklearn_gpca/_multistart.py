@@ -29,12 +29,13 @@ def best_of_starts(
 ):
     """Best of up to ``n_init`` random starts of one solver.
 
-    Every start first runs for :data:`TRIAL_STEPS` accepted steps, in turn;
-    the starts that have not converged by then are pursued to convergence
-    (or ``max_iter`` iterations) lowest residual first. Starts stop as soon
-    as the lowest residual of the converged ones has been reached twice (to
-    a relative ``1e-4``) or is an exact fit. With ``n_init=1`` this is a
-    plain run of the solver.
+    Every start first runs for :data:`TRIAL_STEPS` accepted steps. One whose
+    residual is then the lowest of all trial residuals so far is pursued at
+    once to convergence (or ``max_iter`` iterations); the others wait, and
+    once ``n_init`` starts have been drawn they are pursued lowest residual
+    first. Starts stop as soon as the lowest residual of the converged ones
+    has been reached twice (to a relative ``1e-4``) or is an exact fit. With
+    ``n_init=1`` this is a plain run of the solver.
 
     Parameters
     ----------
@@ -69,17 +70,23 @@ def best_of_starts(
         costs = np.array([start.cost for start in finished])
         return np.sum(costs <= lowest.cost * (1 + _SAME_MINIMUM)) >= 2
 
+    lowest_trial = np.inf
     for k in range(1, n_init + 1):
         start = make_start(random_basis(n_features, rank, random_state))
         start.run(max_iter, max_accepted=TRIAL_STEPS)
         log(f"start {k}, squared residual {start.cost:.6g} after {start.n_iter} steps")
-        (finished if start.done else pending).append(start)
+        promising = start.cost <= lowest_trial
+        lowest_trial = min(lowest_trial, start.cost)
+        if promising and not start.done:
+            start.run(max_iter)
+            log(f"pursued start {k} to squared residual {start.cost:.6g}")
+        (finished if start.done or promising else pending).append(start)
         if enough():
             return _lowest(finished + pending), k
     for start in sorted(pending, key=lambda start: start.cost):
         start.run(max_iter)
         finished.append(start)
-        log(f"pursued a start to squared residual {start.cost:.6g}")
+        log(f"pursued a waiting start to squared residual {start.cost:.6g}")
         if enough():
             break
     return _lowest(finished), n_init

@@ -239,22 +239,28 @@ class VarPro:
 
         products = self.n_products
         newton = self.newton
-        while True:
-            step, negative = _conjugate_gradients(
-                lambda D, newton=newton: self._product(D, shift, newton),
-                gradient,
-                precondition,
-                rtol=_NEWTON_FORCING if newton else _FORCING,
-                max_iter=n_features * r,
-            )
-            if not (negative and newton):
-                break
-            newton = False  # negative curvature: a Gauss-Newton step instead
+        if newton:
+            step, negative = self._solve(gradient, shift, precondition, newton=True)
+            newton = not negative  # negative curvature: a Gauss-Newton step
+        if not newton and hessian is not None:
+            step = precondition(gradient)  # the damped Gauss-Newton matrix: exact
+        elif not newton:
+            step, _ = self._solve(gradient, shift, precondition, newton=False)
         matvec = (12 if newton else 8) * self.mask.size * r
         self.cg_flops = (self.n_products - products) * matvec
         if step is None or not np.all(np.isfinite(step)):
             return None
         return _tangent(V, step)
+
+    def _solve(self, gradient, shift, precondition, *, newton):
+        n_features, r = gradient.shape
+        return _conjugate_gradients(
+            lambda D: self._product(D, shift, newton),
+            gradient,
+            precondition,
+            rtol=_NEWTON_FORCING if newton else _FORCING,
+            max_iter=n_features * r,
+        )
 
     def _product(self, D, shift, newton):
         """``(H + shift I) D`` for a tangent ``D``, with ``H`` the Gauss-Newton

@@ -205,32 +205,34 @@ def test_als_and_varpro_share_their_interface():
 class FakeStart:
     """A solver whose residual after each accepted step is scripted."""
 
-    def __init__(self, costs, log):
-        self.costs, self.log, self.total = list(costs), log, 1.0
+    def __init__(self, costs, pursued):
+        self.costs, self.pursued, self.total = list(costs), pursued, 1.0
         self.n_iter, self.cost, self.done = 0, np.inf, False
 
     def run(self, max_iter, max_accepted=None):
+        if max_accepted is None:
+            self.pursued.append(self)
         steps = len(self.costs) if max_accepted is None else max_accepted
-        for _ in range(steps):
-            if self.done:
-                break
+        for _ in range(min(steps, len(self.costs))):
             self.n_iter += 1
             self.cost = self.costs.pop(0)
-            self.done = not self.costs
-        self.log.append((id(self), self.cost))
+        self.done = not self.costs
         return self
 
 
-@pytest.mark.parametrize("n_init", [1, 3, 6])
-def test_restarts_pursue_the_lowest_unfinished_start_first(monkeypatch, n_init):
+@pytest.mark.parametrize(
+    "n_init, expected", [(1, [0]), (3, [0, 1, 2]), (6, [0, 1, 4, 2])]
+)
+def test_restarts_pursue_promising_starts_then_the_lowest_waiting(
+    monkeypatch, n_init, expected
+):
     monkeypatch.setattr(_multistart, "TRIAL_STEPS", 2)
-    # start k: (residual after 2 steps, final residual); none finishes early
+    # start k: (residual after the 2 trial steps, final residual)
     scripts = [(5.0, 1.0), (3.0, 2.0), (4.0, 1.0), (9.0, 0.5), (2.0, 3.0), (6.0, 1.0)]
-    log, made = [], []
+    pursued, made = [], []
 
     def make_start(init):
-        k = len(made)
-        fake = FakeStart([10.0, scripts[k][0], scripts[k][1]], log)
+        fake = FakeStart([10.0, *scripts[len(made)]], pursued)
         made.append(fake)
         return fake
 
@@ -244,17 +246,12 @@ def test_restarts_pursue_the_lowest_unfinished_start_first(monkeypatch, n_init):
         log=silent,
     )
     assert n_starts == n_init
-    pursued = [made.index(next(f for f in made if id(f) == key)) for key, _ in log]
-    pursued = pursued[n_init:]
-    # lowest residual after the trial steps first
-    order = sorted(range(n_init), key=lambda k: scripts[k][0])
-    assert pursued == order[: len(pursued)]
-    finals = [scripts[k][1] for k in pursued]
-    if n_init == 6:
-        # final residuals 3, 2, 1, 1: stops once 1 is reached twice, before
-        # the start that would reach 0.5
-        assert finals == [3.0, 2.0, 1.0, 1.0]
-    assert best.cost == min(finals)
+    # a start whose trial residual is the lowest so far is pursued at once
+    # (0, 1, then 4); the others wait and are pursued lowest first (2 before
+    # 5 and 3) until the lowest final residual, 1, is reached twice; start 3,
+    # which would reach 0.5, is never pursued
+    assert [made.index(start) for start in pursued] == expected
+    assert best.cost == 1.0
 
 
 def test_restarts_stop_when_the_best_fit_repeats():
