@@ -9,12 +9,14 @@ the coordinates of any rows in that basis. Both the public function
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import functools
 import warnings
 from typing import NamedTuple
 
 import numpy as np
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils.extmath import svd_flip
+from threadpoolctl import ThreadpoolController
 
 from sklearn_gpca._als import ALS
 from sklearn_gpca._completion_rank import max_completion_rank, select_completion_rank
@@ -23,6 +25,29 @@ from sklearn_gpca._mask_graph import determinable, n_connected_blocks
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._multistart import best_of_starts
 from sklearn_gpca._varpro import VarPro
+
+# The solvers run many small BLAS calls: one BLAS thread is faster than the
+# default pool, several times so on a busy machine
+# (benchmarks/results/frames.md, measured both ways).
+LIMIT_BLAS_THREADS = True
+
+
+@functools.cache
+def _threadpool_controller():
+    return ThreadpoolController()
+
+
+def _blas_threads_limited(function):
+    """Run ``function`` with one BLAS thread (if ``LIMIT_BLAS_THREADS``)."""
+
+    @functools.wraps(function)
+    def wrapper(*args, **kwargs):
+        if not LIMIT_BLAS_THREADS:
+            return function(*args, **kwargs)
+        with _threadpool_controller().limit(limits=1, user_api="blas"):
+            return function(*args, **kwargs)
+
+    return wrapper
 
 
 class Factorization(NamedTuple):
@@ -36,6 +61,7 @@ class Factorization(NamedTuple):
     n_init: int
 
 
+@_blas_threads_limited
 def factorise(
     X,
     n_components,
@@ -97,6 +123,7 @@ def factorise(
     return Factorization(vt, s * scale, errors, n_iter, n_polish_iter, n_starts)
 
 
+@_blas_threads_limited
 def project(X, components, singular_values):
     """Whitened coordinates of the rows of ``X`` in a fitted basis.
 

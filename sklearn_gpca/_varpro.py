@@ -156,10 +156,18 @@ class VarPro:
         if self.linearisation is None:
             self.linearisation = self._linearise()
         step = self._step()
-        candidate = None
+        candidate, predicted = None, np.inf
         if step is not None:
             V_new, _ = np.linalg.qr(self.state.V + step)
             candidate = _Projection(self.X0, self.mask, V_new)
+            # decrease of the cost promised by the damped quadratic model
+            gradient, _, scale, _ = self.linearisation
+            predicted = np.vdot(gradient, step)
+            predicted += self.damping * scale * np.vdot(step, step)
+        # a nearly undamped step promising less than tol: converged
+        promised_little = (
+            self.damping <= _NEWTON_DAMPING and predicted <= self.tol * self.cost
+        )
         if candidate is not None and candidate.cost < self.cost:
             decrease = self.cost - candidate.cost
             self.state, self.linearisation = candidate, None
@@ -172,13 +180,18 @@ class VarPro:
                 decrease < _NEWTON_SWITCH * self.cost
                 and self.damping <= _NEWTON_DAMPING
             )
-            if decrease <= self.tol * self.cost or fits_exactly(self.cost, self.total):
+            if (
+                decrease <= self.tol * self.cost
+                or promised_little
+                or fits_exactly(self.cost, self.total)
+            ):
                 self.done = self.converged = True
             return True
         self.log(f"iteration {self.n_iter}, step rejected, damping {self.damping:.1e}")
         self.damping *= 10
-        if self.damping > _LAMBDA_MAX:
-            # no descent direction left at machine precision: a stationary point
+        if promised_little or self.damping > _LAMBDA_MAX:
+            # no descent direction left at the tolerance (or at machine
+            # precision): a stationary point
             self.done = self.converged = True
         return False
 
@@ -300,9 +313,9 @@ def _tangent(V, D):
 def _conjugate_gradients(operator, rhs, precondition, *, rtol, max_iter):
     """Preconditioned conjugate gradients for ``operator(x) = rhs``.
 
-    Stops when the residual is below ``rtol`` times ``rhs``. Returns the
-    iterate and whether a direction of non-positive curvature was met (the
-    iterate then stops there).
+    Stops when the residual is below ``rtol`` times ``rhs``, or at the first
+    direction of non-positive curvature (Steihaug). Returns the iterate and
+    whether that happened at the very first direction (no step at all).
     """
     x = np.zeros_like(rhs)
     norm = np.linalg.norm(rhs)
@@ -312,11 +325,12 @@ def _conjugate_gradients(operator, rhs, precondition, *, rtol, max_iter):
     z = precondition(residual)
     direction = z.copy()
     rz = np.vdot(residual, z)
-    for _ in range(max_iter):
+    for k in range(max_iter):
         product = operator(direction)
         curvature = np.vdot(direction, product)
         if curvature <= 0:
-            return x, True
+            # the iterate so far is still a descent direction (Steihaug)
+            return x, k == 0
         alpha = rz / curvature
         x += alpha * direction
         residual -= alpha * product
