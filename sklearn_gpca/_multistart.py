@@ -59,14 +59,15 @@ def best_of_starts(
     finished, pending = [], []
 
     def enough():
-        # the lowest residual of all starts, reached by two finished ones
+        # the lowest residual, reached by two finished starts and not already
+        # beaten by a waiting one
         if not finished:
             return False
-        lowest = _lowest(finished + pending)
-        if lowest not in finished:
-            return False
+        lowest = _lowest(finished)
         if fits_exactly(lowest.cost, lowest.total):
             return True
+        if any(start.cost < lowest.cost * (1 - _SAME_MINIMUM) for start in pending):
+            return False
         costs = np.array([start.cost for start in finished])
         return np.sum(costs <= lowest.cost * (1 + _SAME_MINIMUM)) >= 2
 
@@ -82,7 +83,7 @@ def best_of_starts(
             log(f"pursued start {k} to squared residual {start.cost:.6g}")
         (finished if start.done or promising else pending).append(start)
         if enough():
-            return _lowest(finished + pending), k
+            return _lowest(finished), k
     for start in sorted(pending, key=lambda start: start.cost):
         start.run(max_iter)
         finished.append(start)
