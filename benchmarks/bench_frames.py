@@ -24,8 +24,13 @@ With ``--reference PATH``, a checkout of an earlier version (e.g. ``mkdir
 table fits that version's default on the F <= 30 rows and compares the
 residuals.
 
-Writes ``benchmarks/results/frames.md`` (and its CSV tables). Timings are
-noisy on a shared machine: compare columns within one run.
+``--data motions`` takes the trajectories of ``make_motions(3,
+n_points=1000, missing=0.4, missing_pattern="occlusion")`` instead (affine
+cameras, every track one window of frames).
+
+Writes ``benchmarks/results/frames.md`` (``frames_motions.md`` with ``--data
+motions``) and its CSV tables. Timings are noisy on a shared machine:
+compare columns within one run.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -47,9 +52,9 @@ FRAMES = (10, 30, 100, 300, 1000)
 WIDE = "100 x 4000"
 
 
-def make_data(name, seed=0):
+def make_data(name, generator, seed=0):
     """The data of one row of the table."""
-    from sklearn_gpca.datasets import make_tracks
+    from sklearn_gpca.datasets import make_motions, make_tracks
 
     rng = np.random.RandomState(seed)
     if name == WIDE:
@@ -58,6 +63,15 @@ def make_data(name, seed=0):
         X[rng.rand(*X.shape) < 0.1] = np.nan
         return X
     n_frames = int(name)
+    if generator == "motions":
+        return make_motions(
+            3,
+            n_points=1000,
+            n_frames=n_frames,
+            missing=0.4,
+            missing_pattern="occlusion",
+            random_state=seed,
+        )[0]
     X, _ = make_tracks(
         3,
         scene="lab",
@@ -138,8 +152,18 @@ def main():
     parser.add_argument("--thread-frames", type=int, nargs="*", default=[30, 100])
     parser.add_argument("--reference", default="", help="earlier checkout")
     parser.add_argument("--reference-frames", type=int, nargs="*", default=[10, 30])
-    parser.add_argument("--output", type=Path, default=RESULTS)
+    parser.add_argument(
+        "--data",
+        choices=["tracks", "motions"],
+        default="tracks",
+        help="make_tracks (default) or make_motions(missing_pattern='occlusion')",
+    )
+    parser.add_argument("--output", type=Path, default=None)
     args = parser.parse_args()
+    if args.output is None:
+        args.output = RESULTS.with_stem(
+            "frames" if args.data == "tracks" else "frames_motions"
+        )
     if args.one:
         print(json.dumps(fit_once(*json.loads(args.one))))
         return
@@ -150,7 +174,7 @@ def main():
     for name in names + [str(f) for f in args.thread_frames + args.reference_frames]:
         if name not in paths:
             paths[name] = folder / f"{name.replace(' ', '')}.npy"
-            np.save(paths[name], make_data(name))
+            np.save(paths[name], make_data(name, args.data))
             print(f"data {name}: {np.isnan(np.load(paths[name])).mean():.0%} missing")
 
     rows = []
@@ -230,6 +254,17 @@ def write(args, rows, thread_rows, reference_rows):
             f"{solver} starts",
         ]
     header += ["default / als time", "als RMS excess"]
+    if args.data == "tracks":
+        data = (
+            "`1000 x 2F`: 1,000 tracks of 3 motions from `make_tracks(3, "
+            'scene="lab", missing=0.4, outlier_fraction=0)`, F frames (frame '
+            "rate 30 F / 100 beyond 100 frames)"
+        )
+    else:
+        data = (
+            "`1000 x 2F`: 1,000 trajectories of 3 motions from `make_motions(3, "
+            'n_points=1000, missing=0.4, missing_pattern="occlusion")`, F frames'
+        )
     lines = [
         "# PowerFactorization as the sequence grows",
         "",
@@ -238,11 +273,10 @@ def write(args, rows, thread_rows, reference_rows):
         "process: wall seconds with the machine's default BLAS threads "
         "(in brackets with `OMP_NUM_THREADS=1`), CPU seconds, peak memory "
         "allocated during the fit (tracemalloc), RMS residual over the "
-        "observed entries, random starts run. `1000 x 2F`: 1,000 tracks of 3 "
-        'motions from `make_tracks(3, scene="lab", missing=0.4, '
-        "outlier_fraction=0)`, F frames; `100 x 4000`: rank 5 plus noise, 10 % "
-        "missing at random. 'als RMS excess': relative excess of ALS's RMS "
-        "over the default's (0 where ALS reaches the same optimum).",
+        f"observed entries, random starts run. {data}; `100 x 4000`: rank 5 "
+        "plus noise, 10 % missing at random. 'als RMS excess': relative excess "
+        "of ALS's RMS over the default's (0 where ALS reaches the same "
+        "optimum).",
         "",
         *markdown_table(header, rows),
         "",

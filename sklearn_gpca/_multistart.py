@@ -34,8 +34,10 @@ def best_of_starts(
     once to convergence (or ``max_iter`` iterations); the others wait, and
     once ``n_init`` starts have been drawn they are pursued lowest residual
     first. Starts stop as soon as the lowest residual of the converged ones
-    has been reached twice (to a relative ``1e-4``) or is an exact fit. With
-    ``n_init=1`` this is a plain run of the solver.
+    has been reached by another start too (to a relative ``1e-4``; a waiting
+    start counts, since its residual only decreases) and no waiting start is
+    lower, or is an exact fit. With ``n_init=1`` this is a plain run of the
+    solver.
 
     Parameters
     ----------
@@ -59,16 +61,17 @@ def best_of_starts(
     finished, pending = [], []
 
     def enough():
-        # the lowest residual, reached by two finished starts and not already
-        # beaten by a waiting one
+        # the lowest residual of a finished start, reached by another start
+        # (a waiting one already that low will end there or lower) and not
+        # already beaten by a waiting one
         if not finished:
             return False
         lowest = _lowest(finished)
         if fits_exactly(lowest.cost, lowest.total):
             return True
-        if any(start.cost < lowest.cost * (1 - _SAME_MINIMUM) for start in pending):
+        costs = np.array([start.cost for start in finished + pending])
+        if np.any(costs < lowest.cost * (1 - _SAME_MINIMUM)):
             return False
-        costs = np.array([start.cost for start in finished])
         return np.sum(costs <= lowest.cost * (1 + _SAME_MINIMUM)) >= 2
 
     lowest_trial = np.inf

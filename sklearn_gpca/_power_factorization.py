@@ -234,7 +234,8 @@ class PowerFactorization(
 
     tol : float, default=1e-7
         Stop when the squared residual over the observed entries decreases
-        by less than ``tol`` times its value in one (accepted) iteration.
+        by less than ``tol`` times its value in one (accepted) iteration, or,
+        for "varpro", when a nearly undamped step is predicted to.
 
     max_init_samples : int or None, default=1000
         With missing entries and more (well-observed) rows than this, the
@@ -352,8 +353,9 @@ class PowerFactorization(
     leaving out trajectories observed in fewer than ``n_components`` of the
     remaining features, repeatedly) cannot be fitted: it is left out of the
     fit with a warning, and its entries of the basis are the minimum-norm fit
-    to its few observed entries. Trajectories observed in fewer than ``q``
-    entries do not inform the basis. When the observed entries fall apart
+    to its few observed entries (zero for a feature never observed).
+    Trajectories observed in fewer than ``q`` entries do not inform the
+    basis. When the observed entries fall apart
     into groups of trajectories and features that share no entry, the fit
     does not determine the completion between groups, and a warning says so.
 

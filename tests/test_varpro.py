@@ -273,3 +273,26 @@ def test_dinosaur_reaches_the_best_known_fit(lowrank_dir):
     basis = pf.singular_values_[:, None] * pf.components_
     rms = np.sqrt(squared_residual(X0, mask, B, basis.T, None) / mask.sum())
     assert_allclose(rms, pf.reconstruction_err_, rtol=1e-6)
+
+
+def test_a_waiting_start_already_at_the_lowest_residual_confirms_it(monkeypatch):
+    monkeypatch.setattr(_multistart, "TRIAL_STEPS", 2)
+    # start 0 converges within its trial steps; start 1 waits (its trial
+    # residual is higher) but is already within 1e-4 of it: no need to pursue
+    scripts = [[10.0, 1.0], [10.0, 1.00001, 0.5], [10.0, 2.0, 0.1]]
+    pursued, made = [], []
+
+    def make_start(init):
+        made.append(FakeStart(scripts[len(made)], pursued))
+        return made[-1]
+
+    best, n_starts = _multistart.best_of_starts(
+        make_start,
+        4,
+        2,
+        n_init=3,
+        max_iter=100,
+        random_state=np.random.RandomState(0),
+        log=silent,
+    )
+    assert (n_starts, pursued, best.cost) == (2, [], 1.0)
