@@ -22,12 +22,19 @@ _SLACK = 1.05
 
 
 def max_completion_rank(mask, n_components, max_rank):
-    """Largest rank worth trying: enough rows and columns must determine it."""
+    """Largest rank worth trying: enough rows and columns must determine it.
+
+    Every column must be observed ``q`` times, and at least ``q`` rows must
+    be observed in ``q`` entries or more (the rows that inform a rank-``q``
+    basis).
+    """
     n_samples, n_features = mask.shape
     col_counts = mask.sum(axis=0)
-    return int(
-        max(n_components, min(max_rank, n_features, n_samples, col_counts.min()))
-    )
+    row_counts = np.sort(mask.sum(axis=1))[::-1]
+    # the largest q with q rows observed in at least q entries (an h-index)
+    rows_limit = np.count_nonzero(row_counts >= np.arange(1, n_samples + 1))
+    limit = min(max_rank, n_features, n_samples, col_counts.min(), rows_limit)
+    return int(max(n_components, limit))
 
 
 def select_completion_rank(X0, mask, n_components, max_rank, random_state):

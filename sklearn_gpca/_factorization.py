@@ -243,8 +243,9 @@ def _choose_rank(X0, mask, n_components, completion_rank, random_state):
     if supported < completion_rank:
         warnings.warn(
             f"completion_rank={completion_rank} lowered to {supported}: a "
-            f"feature used by the fit is observed in only {supported} "
-            "trajectories, and a rank-q fit needs q per feature.",
+            "rank-q fit needs every feature observed in q trajectories and q "
+            "trajectories observed in q entries, which the observed entries "
+            f"give only up to q={supported}.",
             UserWarning,
             stacklevel=5,
         )

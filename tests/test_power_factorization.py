@@ -224,3 +224,16 @@ def test_completion_rank_beyond_the_data_is_an_error(missing):
         ValueError, match="completion_rank=18 must be at most n_samples=12"
     ):
         PowerFactorization(5, completion_rank=18).fit(X[:12])
+
+
+def test_completion_rank_beyond_what_the_rows_support_is_lowered_with_a_warning():
+    # every row observes 10 consecutive entries (cyclically), every column is
+    # observed 60 times or more: no row informs a fit beyond rank 10
+    X = low_rank(n_samples=200, n_features=30, rank=5)
+    offset = (np.arange(30) - np.arange(200)[:, None] % 30) % 30
+    X[offset >= 10] = np.nan
+    assert (~np.isnan(X)).sum(axis=0).min() >= 60
+    with pytest.warns(UserWarning, match="completion_rank=15 lowered to 10"):
+        pf = PowerFactorization(5, completion_rank=15, random_state=0).fit(X)
+    assert pf.completion_rank_ == 10
+    assert np.all(np.isfinite(pf.components_))
