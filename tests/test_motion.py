@@ -74,11 +74,14 @@ def rank4_reference(W, mask=None, n_iter=5000):
         A = np.array(
             [
                 np.linalg.lstsq(B[m], w[m], rcond=None)[0]
-                for w, m in zip(filled.T, mask.T)
+                for w, m in zip(filled.T, mask.T, strict=True)
             ]
         )
         B = np.array(
-            [np.linalg.lstsq(A[m], w[m], rcond=None)[0] for w, m in zip(filled, mask)]
+            [
+                np.linalg.lstsq(A[m], w[m], rcond=None)[0]
+                for w, m in zip(filled, mask, strict=True)
+            ]
         )
         cost = np.sum((W - B @ A.T)[mask] ** 2)
         if previous - cost <= 1e-13 * cost:
@@ -89,7 +92,7 @@ def rank4_reference(W, mask=None, n_iter=5000):
 
 
 def noisy_bodies(noise, seed=0):
-    X, y, truth = two_bodies(seed=seed)
+    X, y, _ = two_bodies(seed=seed)
     X = X + noise * np.random.RandomState(seed + 10).standard_normal(X.shape)
     return X, y
 
