@@ -704,3 +704,34 @@ def test_console_script_entry_point():
 
     (script,) = entry_points(group="console_scripts", name="sklearn-gpca")
     assert script.load() is main
+
+
+def test_sizes_count_empty_motions_and_outliers(tmp_path, capsys, monkeypatch):
+    import sklearn_gpca._cli as cli
+
+    X, y = make_motions(2, n_points=[10, 10], n_frames=4, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    real_fit = cli._fit
+    labels = np.r_[np.zeros(12, dtype=int), np.full(5, 2), np.full(3, -1)]
+
+    def fit_with_outliers(*args, **kwargs):
+        pipeline, _ = real_fit(*args, **kwargs)
+        pipeline[-1].n_clusters_ = 3
+        return pipeline, labels
+
+    monkeypatch.setattr(cli, "_fit", fit_with_outliers)
+    out = tmp_path / "labels.txt"
+    argv = [
+        "segment",
+        str(path),
+        "--n-motions",
+        "2",
+        "--rank",
+        "4",
+        "--output",
+        str(out),
+    ]
+    assert main(argv) == 0
+    rows = summary(capsys.readouterr().out)
+    assert rows["sizes"] == "12 0 5 (+ 3 outliers, label -1)"
+    np.testing.assert_array_equal(np.loadtxt(out, dtype=int), labels)
