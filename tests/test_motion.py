@@ -123,6 +123,7 @@ def test_residual_and_points_match_least_squares_on_noisy_complete_data():
         # basis of the same space divided by w.
         basis = np.linalg.svd((U.T @ np.ones(len(W)))[None, :])[2][1:]
         reference = (U @ basis.T) / w[:, None]
+        assert motion.points_3d.shape == (len(W), 3)
         assert affine_residual(motion.points_3d, reference) < 1e-6
         assert affine_residual(motion.structure[:, :3], reference) > 1e-3
 
@@ -147,8 +148,8 @@ def test_residual_matches_least_squares_on_noisy_incomplete_data():
 @pytest.mark.parametrize(
     ("make_labels", "match"),
     [
-        (lambda y: np.array(["a", "b"])[y], r"labels must be integers.*<U1"),
-        (lambda y: y + 0.5, r"labels must be integers.*0.5"),
+        (lambda y: np.array(["a", "b"])[y], r"^labels must be integers.*<U1\.$"),
+        (lambda y: np.r_[y[:-1], 2.5], r"^labels must be integers.*got 2.5\.$"),
         (lambda y: y[:, None], r"labels must be 1-D.*\(60, 1\)"),
         (lambda y: np.c_[y, y], r"labels must be 1-D.*\(60, 2\)"),
     ],
@@ -164,6 +165,32 @@ def test_integral_float_labels_are_accepted():
     X, y, _ = two_bodies()
     motions = estimate_motions(X, y.astype(float), random_state=0)
     assert [m.label for m in motions] == [0, 1]
+    assert all(isinstance(m.label, np.integer) for m in motions)
+
+
+def test_group_of_exactly_four_trajectories_is_factorised():
+    X, y, _ = two_bodies()
+    y[4:25] = -1  # group 0 keeps trajectories 0-3
+    motions = estimate_motions(X, y, random_state=0)
+    assert motions[0].structure.shape == (4, 4)
+    assert motions[0].points_3d.shape == (4, 3)
+
+
+def test_same_random_state_same_result():
+    X, y = noisy_bodies(noise=0.05)
+    X[np.random.RandomState(3).rand(*X.shape) < 0.2] = np.nan
+    first = estimate_motions(X, y, random_state=0)
+    second = estimate_motions(X, y, random_state=0)
+    for a, b in zip(first, second, strict=True):
+        np.testing.assert_array_equal(a.motion, b.motion)
+        np.testing.assert_array_equal(a.points_3d, b.points_3d)
+
+
+def test_group_without_enough_observed_entries_is_named():
+    X, y, _ = two_bodies()
+    X[30, 2:] = np.nan  # one observed point: fewer than 4 entries
+    with pytest.raises(ValueError, match=r"^Group 1: .*observed entries"):
+        estimate_motions(X, y, random_state=0)
 
 
 def test_all_zero_group_is_named():
