@@ -175,7 +175,7 @@ class PowerFactorization(
     """Rank-r factorisation of trajectories with missing entries.
 
     Fits ``X ~ Z diag(s) V`` minimising the squared error over the observed
-    entries of ``X`` (equation (8) of Vidal & Hartley, 2004), and projects
+    entries of ``X`` (equation (8) of [1]_), and projects
     trajectories (rows of ``X``, possibly incomplete, possibly new) to their
     ``n_components`` coordinates ``Z``. With complete data the fitted
     subspace is the truncated SVD's. :func:`power_factorization` is the same
@@ -311,12 +311,13 @@ class PowerFactorization(
     Notes
     -----
     With ``W = X^T`` the ``2F x P`` measurement matrix of the paper, the
-    iteration alternates (1) the least-squares ``B`` given ``A`` over the
-    observed entries, one small ``r x r`` system per trajectory, (2) the
-    orthonormalisation of ``B``, (3) the least-squares ``A`` given ``B``, one
-    system per feature. With complete data (1) and (3) reduce to the
-    products ``W^T A`` and ``W B`` of the power method, which converges to the
-    best rank-r approximation at rate ``(s_{r+1} / s_r)^k``.
+    iteration of [1]_ and [2]_ alternates (1) the least-squares ``B`` given
+    ``A`` over the observed entries, one small ``r x r`` system per
+    trajectory, (2) the orthonormalisation of ``B``, (3) the least-squares
+    ``A`` given ``B``, one system per feature. With complete data (1) and (3)
+    reduce to the products ``W^T A`` and ``W B`` of the power method, which
+    converges to the best rank-r approximation at rate
+    ``(s_{r+1} / s_r)^k``.
 
     With missing entries, ``solver="als"`` runs that iteration, which can
     crawl for thousands of iterations along flat valleys and stop far from
@@ -327,10 +328,11 @@ class PowerFactorization(
     Levenberg-Marquardt on the ``n_features x r`` entries of ``A``, with the
     Ruhe-Wedin (RW2) approximation of the Jacobian, steps orthogonal to the
     gauge directions ``A K`` and ``A`` re-orthonormalised after each step
-    (Hong & Fitzgibbon, 2015); once the decrease slows down, the steps use
+    [3]_; once the decrease slows down, the steps use
     the exact Hessian (Newton), which converges quadratically where
     Gauss-Newton converges linearly. The linear system of a step is solved
-    by conjugate gradients whose products cost ``O(|observed| r)``, with the
+    by conjugate gradients (as in [4]_) whose products cost
+    ``O(|observed| r)``, with the
     block diagonal of the Gauss-Newton matrix as preconditioner, so nothing
     of size ``(n_features r)^2`` is formed; on problems where conjugate
     gradients need many products (few features, ill-conditioned: the
@@ -371,19 +373,16 @@ class PowerFactorization(
 
     References
     ----------
-    R. Vidal and R. Hartley, "Motion Segmentation with Missing Data using
-    PowerFactorization and GPCA", CVPR 2004.
-
-    J. H. Hong and A. Fitzgibbon, "Secrets of Matrix Factorization:
-    Approximations, Numerics, Manifold Optimization and Random Restarts",
-    ICCV 2015.
-
-    N. Boumal and P.-A. Absil, "RTRMC: A Riemannian trust-region method for
-    low-rank matrix completion", NIPS 2011.
-
-    R. Hartley and F. Schaffalitzky, "PowerFactorization: 3D reconstruction
-    with missing or uncertain data", Australia-Japan Advanced Workshop on
-    Computer Vision, 2003.
+    .. [1] R. Vidal and R. Hartley, "Motion Segmentation with Missing Data
+       using PowerFactorization and GPCA", CVPR 2004.
+    .. [2] R. Hartley and F. Schaffalitzky, "PowerFactorization: 3D
+       reconstruction with missing or uncertain data", Australia-Japan
+       Advanced Workshop on Computer Vision, 2003.
+    .. [3] J. H. Hong and A. Fitzgibbon, "Secrets of Matrix Factorization:
+       Approximations, Numerics, Manifold Optimization and Random Restarts",
+       ICCV 2015.
+    .. [4] N. Boumal and P.-A. Absil, "RTRMC: A Riemannian trust-region method
+       for low-rank matrix completion", NIPS 2011.
 
     Examples
     --------
