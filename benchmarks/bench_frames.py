@@ -154,6 +154,16 @@ def runs_of(name, args):
     return runs
 
 
+def skipped(rows):
+    """The sentence on the fits not run (``--als-frames``), if any."""
+    if not any("not run" in row for row in rows):
+        return ""
+    return (
+        " 'not run': ALS was not timed at these frames in this run "
+        "(`--als-frames`); its CPU seconds at F <= 100 are in the rows above."
+    )
+
+
 def shape_of(name):
     return WIDE if name == WIDE else f"1000 x {2 * int(name)}"
 
@@ -321,7 +331,7 @@ def write(args, rows, thread_rows, reference_rows):
         "of ALS's RMS over the default's (0 where ALS reaches the same "
         "optimum); 'default / als CPU time' compares CPU seconds, steadier than "
         "wall seconds on a shared machine. Load average (1 min) when the run "
-        f"started: {args.load:.1f} on {os.cpu_count()} cores.",
+        f"started: {args.load:.1f} on {os.cpu_count()} cores.{skipped(rows)}",
         "",
         *markdown_table(header, rows),
         "",
