@@ -68,7 +68,6 @@ if config != "none":
             labels = GPCAClustering(3, random_state=0, **PAPER).fit_predict(Z)
         else:
             from sklearn.cluster import SpectralClustering
-            from sklearn_gpca._gpca import _unit_rows
             from sklearn_gpca._spectral import normal_subspace_features
             gpca = GPCAClustering(3, random_state=0, **PAPER).fit(Z)
             phi = normal_subspace_features(gpca.point_normals_)

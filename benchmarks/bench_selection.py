@@ -39,8 +39,9 @@ from sklearn_gpca._affinity import (
     sign_invariant_neighbors,
 )
 from sklearn_gpca._coding_length import coding_length
-from sklearn_gpca._gpca import _unit_gradients, _unit_rows
 from sklearn_gpca._ksubspaces import refine_ksubspaces
+from sklearn_gpca._polynomials import unit_gradients as _unit_gradients
+from sklearn_gpca._rows import unit_rows as _unit_rows
 from sklearn_gpca.datasets import load_hopkins155
 from sklearn_gpca.metrics import misclassification_rate
 

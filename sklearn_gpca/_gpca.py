@@ -16,21 +16,17 @@ import numpy as np
 from scipy.linalg import eigh
 from scipy.special import logsumexp
 from sklearn.base import BaseEstimator, ClusterMixin, _fit_context, clone
-from sklearn.cluster import KMeans
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils import check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.validation import check_is_fitted, validate_data
 
 from sklearn_gpca._affinity import (
-    leading_eigenvectors,
-    local_normal_bases,
     merge_clusters,
     normal_affinity_graph,
     normalized_cut,
     sign_invariant_neighbors,
 )
-from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._coding_length import coding_length
 from sklearn_gpca._ksubspaces import (
     fit_subspace,
@@ -39,18 +35,22 @@ from sklearn_gpca._ksubspaces import (
     smoothed_cost,
 )
 from sklearn_gpca._missing import describe_indices
+from sklearn_gpca._normals import local_normal_bases
 from sklearn_gpca._polynomials import (
-    embedded_spectrum,
-    null_space_dimension,
     polynomial_normal_bases,
+    unit_gradients,
+    vanishing_polynomials,
 )
+from sklearn_gpca._rows import canonical_sign as _canonical_sign
+from sklearn_gpca._rows import unit_rows as _unit_rows
 from sklearn_gpca._spectral import (
+    embedding_kmeans,
+    leading_eigenvectors,
     normal_subspace_features,
     spectral_clustering_lowrank,
 )
 from sklearn_gpca._veronese import (
     n_monomials,
-    polynomial_gradients,
     veronese_exponents,
 )
 
@@ -67,26 +67,6 @@ _SCORE_FLOOR = 1e-6
 def _coarse(n_neighbors):
     """Neighbourhood size of the coarse-scale graph of ``init="multi"``."""
     return (3 * n_neighbors + 1) // 2
-
-
-def _unit_rows(X):
-    norms = np.linalg.norm(X, axis=1, keepdims=True)
-    return X / np.maximum(norms, np.finfo(X.dtype).tiny)
-
-
-def _canonical_sign(vectors):
-    """Flip each row so that its largest-magnitude entry is positive."""
-    vectors = np.atleast_2d(vectors)
-    largest = vectors[np.arange(vectors.shape[0]), np.argmax(np.abs(vectors), axis=1)]
-    return vectors * np.where(largest < 0, -1.0, 1.0)[:, None]
-
-
-def _unit_gradients(points, coef, degree):
-    """Unit gradients of the polynomial ``coef`` at ``points``, in chunks."""
-    normals = np.empty_like(points)
-    for rows in row_chunks(points.shape[0]):
-        normals[rows] = _unit_rows(polynomial_gradients(points[rows], coef, degree))
-    return normals
 
 
 def _cluster_normals(point_normals, labels, n_clusters, smallest=False):
@@ -555,10 +535,9 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         if self.normalize:
             points = _unit_rows(points)
 
-        singular_values, vectors = embedded_spectrum(points, n_clusters)
-        self.coef_ = _canonical_sign(vectors[:, 0])[0]
-        self.n_polynomials_ = null_space_dimension(singular_values)
-        self.polynomials_ = _canonical_sign(vectors[:, : self.n_polynomials_].T)
+        self.polynomials_ = vanishing_polynomials(points, n_clusters)
+        self.coef_ = self.polynomials_[0]
+        self.n_polynomials_ = self.polynomials_.shape[0]
         self.exponents_ = veronese_exponents(X.shape[1], n_clusters)
         subspace_dim = self.subspace_dim
         if subspace_dim is None:
@@ -586,7 +565,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
                 unit, sample, labels, local, subspace_dim, random_state
             )
             sample_normals = normals
-            normals = _unit_gradients(points, self.coef_, n_clusters)
+            normals = unit_gradients(points, self.coef_, n_clusters)
             normals[sample] = sample_normals
         if not converged:
             warnings.warn(
@@ -671,7 +650,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             local = neighbors[:, : max(n_neighbors // 3, 1)]
 
         if self.affinity == "polynomial":
-            normals = _unit_gradients(points, self.coef_, n_clusters)
+            normals = unit_gradients(points, self.coef_, n_clusters)
             bases, codims = normals[:, :, None], np.ones(points.shape[0], np.intp)
         elif self.affinity == "polynomials":
             bases, codims = polynomial_normal_bases(
@@ -804,9 +783,9 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         return full, converged
 
     def _kmeans(self, embedding, n_clusters, random_state):
-        return KMeans(
-            n_clusters, n_init=self.n_init, random_state=random_state
-        ).fit_predict(_unit_rows(embedding))
+        return embedding_kmeans(
+            embedding, n_clusters, n_init=self.n_init, random_state=random_state
+        )
 
     def _spectral_candidates(self, unit, bases, codims, searched, random_state):
         """Initial segmentations from the sparse graphs, and the polynomial graph.
@@ -839,7 +818,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         if self.affinity == "polynomial":
             poly_graph = graph
         else:
-            gradients = _unit_gradients(unit, self.coef_, n_clusters)
+            gradients = unit_gradients(unit, self.coef_, n_clusters)
             poly_graph = normal_affinity_graph(
                 gradients[:, :, None], np.ones(n_samples), neighbors, power
             )

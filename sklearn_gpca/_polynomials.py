@@ -17,6 +17,7 @@ import numpy as np
 from scipy.linalg import eigh
 
 from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._rows import canonical_sign, unit_rows
 from sklearn_gpca._veronese import polynomial_gradients, veronese_map
 
 
@@ -76,6 +77,66 @@ def null_space_dimension(singular_values):
     if values.shape[0] < 2:
         return 1
     return int(np.argmax(np.diff(np.log(values)))) + 1
+
+
+def vanishing_polynomials(points, degree):
+    """The homogeneous polynomials of degree ``degree`` that vanish on ``points``.
+
+    Step 2 of Algorithm 1 (equation (9)) and section 2.2.4: the right singular
+    vectors of the embedded data ``W~`` for its smallest singular values, as
+    many as :func:`null_space_dimension` finds.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_samples, n_features)
+        Points, one per row.
+    degree : int
+        Degree ``n`` of the polynomials: the number of subspaces.
+
+    Returns
+    -------
+    polynomials : ndarray of shape (n_polynomials, n_monomials)
+        Orthonormal coefficient vectors, each signed so that its
+        largest-magnitude entry is positive; the first is the single polynomial
+        of the paper, the best fit ``argmin ||W~^T c||`` with ``||c|| = 1``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca._polynomials import vanishing_polynomials
+    >>> # the lines y = 0 and x = 0 of the plane: p(x, y) = x y
+    >>> points = np.array([[1.0, 0.0], [2.0, 0.0], [0.0, 1.0], [0.0, -3.0]])
+    >>> np.round(vanishing_polynomials(points, 2), 6) + 0.0
+    array([[0., 1., 0.]])
+    """
+    singular_values, vectors = embedded_spectrum(points, degree)
+    n_polynomials = null_space_dimension(singular_values)
+    return canonical_sign(vectors[:, :n_polynomials].T)
+
+
+def unit_gradients(points, coef, degree):
+    """Unit gradients ``Dp(x) / ||Dp(x)||`` of the polynomial ``coef`` at ``points``.
+
+    Section 2.2.3: the normal at each point. Computed in chunks of rows;
+    zero gradients stay zero.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_samples, n_features)
+        Points, one per row.
+    coef : ndarray of shape (n_monomials,)
+        Coefficients of the polynomial.
+    degree : int
+        Its degree.
+
+    Returns
+    -------
+    normals : ndarray of shape (n_samples, n_features)
+    """
+    normals = np.empty_like(points)
+    for rows in row_chunks(points.shape[0]):
+        normals[rows] = unit_rows(polynomial_gradients(points[rows], coef, degree))
+    return normals
 
 
 def polynomial_normal_bases(points, coefs, degree, rank_tol):

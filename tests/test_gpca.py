@@ -14,8 +14,9 @@ from sklearn.pipeline import make_pipeline
 from sklearn.utils.estimator_checks import parametrize_with_checks
 
 from sklearn_gpca import PowerFactorization
-from sklearn_gpca._affinity import local_normal_bases, sign_invariant_neighbors
+from sklearn_gpca._affinity import sign_invariant_neighbors
 from sklearn_gpca._gpca import GPCAClustering
+from sklearn_gpca._normals import local_normal_bases
 from sklearn_gpca._veronese import veronese_map
 from sklearn_gpca.datasets import make_motions
 
