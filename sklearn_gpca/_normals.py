@@ -19,8 +19,57 @@ of the affinities in :mod:`sklearn_gpca._affinity`.
 
 import numpy as np
 
+from sklearn_gpca._polynomials import polynomial_normal_bases, unit_gradients
 
-def local_normal_bases(points, neighbors, rank_tol):
+POINT_NORMALS = ("local", "one_polynomial", "all_polynomials")
+
+
+def point_normal_bases(method, unit, *, points, polynomials, degree, neighbors, tol):
+    """Normal subspace at each point, by one of the three estimators.
+
+    Parameters
+    ----------
+    method : {"local", "one_polynomial", "all_polynomials"}
+        The estimator (see the module docstring).
+    unit : ndarray of shape (n_samples, n_features)
+        The points scaled to unit norm.
+    points : ndarray of shape (n_samples, n_features)
+        The points the polynomials were fitted to (``unit`` when normalised);
+        the gradient of ``"one_polynomial"`` is taken there, as in the paper.
+    polynomials : ndarray of shape (n_polynomials, n_monomials)
+        The vanishing polynomials (:func:`~sklearn_gpca._polynomials.
+        vanishing_polynomials`), the first being the best-fitting one.
+    degree : int
+        Their degree.
+    neighbors : ndarray of shape (n_samples, n_local) or None
+        The neighbourhood of each point for ``"local"``.
+    tol : float
+        Relative singular-value threshold below which a direction counts as
+        normal: against the widest tangent direction ``s_2`` of a
+        neighbourhood (``"local"``, :func:`local_normal_bases`), against the
+        strongest gradient ``s_1`` (``"all_polynomials"``,
+        :func:`~sklearn_gpca._polynomials.polynomial_normal_bases`); unused by
+        ``"one_polynomial"``.
+
+    Returns
+    -------
+    bases : ndarray of shape (n_samples, n_features, n_columns)
+        ``bases[i][:, l]`` for ``l < codims[i]`` is an orthonormal basis of the
+        normal subspace at point ``i``, strongest (or only) normal first; the
+        remaining columns are zero. ``n_columns`` is 1 for
+        ``"one_polynomial"``, ``n_features`` otherwise.
+    codims : ndarray of shape (n_samples,), dtype=intp
+        The dimension of each normal subspace, ``>= 1``.
+    """
+    if method == "one_polynomial":
+        normals = unit_gradients(points, polynomials[0], degree)
+        return normals[:, :, None], np.ones(points.shape[0], dtype=np.intp)
+    if method == "all_polynomials":
+        return polynomial_normal_bases(unit, polynomials.T, degree, tol)
+    return local_normal_bases(unit, neighbors, tol)
+
+
+def local_normal_bases(points, neighbors, tol):
     """Normal subspace of a hyperplane (or lower subspace) fitted at each point.
 
     Parameters
@@ -29,11 +78,11 @@ def local_normal_bases(points, neighbors, rank_tol):
         Unit vectors.
     neighbors : ndarray of shape (n_samples, n_local)
         Neighbours of each point (from :func:`sign_invariant_neighbors`).
-    rank_tol : float
+    tol : float
         Relative threshold on singular values. With ``s_1 >= ... >= s_K`` the
         singular values of the ``(n_local + 1, K)`` matrix of the point and its
         neighbours, direction ``l >= 3`` is a normal direction when ``s_l <=
-        rank_tol * s_2`` (``s_1`` is the radial direction of the patch, ``s_2``
+        tol * s_2`` (``s_1`` is the radial direction of the patch, ``s_2``
         its widest tangent direction); the last direction always is. Zero keeps
         exactly one normal (hyperplanes).
 
@@ -52,7 +101,7 @@ def local_normal_bases(points, neighbors, rank_tol):
     # vt rows sorted by decreasing singular value; pad missing values with 0
     values = np.pad(values, ((0, 0), (0, n_features - values.shape[1])))
     reference = values[:, min(1, n_features - 1)][:, None]
-    small = values <= rank_tol * reference
+    small = values <= tol * reference
     small[:, : min(2, n_features - 1)] = False
     small[:, -1] = True
     codims = np.count_nonzero(small, axis=1).astype(np.intp)

@@ -139,7 +139,7 @@ def unit_gradients(points, coef, degree):
     return normals
 
 
-def polynomial_normal_bases(points, coefs, degree, rank_tol):
+def polynomial_normal_bases(points, coefs, degree, tol):
     """Normal subspace at each point from the gradients of several polynomials.
 
     Parameters
@@ -150,9 +150,9 @@ def polynomial_normal_bases(points, coefs, degree, rank_tol):
         Orthonormal coefficient vectors of the vanishing polynomials.
     degree : int
         Their degree.
-    rank_tol : float
+    tol : float
         A direction of the ``(n_polynomials, n_features)`` gradient matrix
-        ``[Dp_1(x_i); ...]`` with singular value ``s_l <= rank_tol * s_1`` is
+        ``[Dp_1(x_i); ...]`` with singular value ``s_l <= tol * s_1`` is
         noise; the others span the normal subspace (at least one does).
 
     Returns
@@ -170,7 +170,7 @@ def polynomial_normal_bases(points, coefs, degree, rank_tol):
     for rows in row_chunks(n_samples):
         gradients = polynomial_gradients(points[rows], coefs, degree)
         _, values, vt = np.linalg.svd(gradients, full_matrices=False)
-        keep = values > rank_tol * values[:, :1]
+        keep = values > tol * values[:, :1]
         keep[:, 0] = True
         keep[:, n_features - 1 :] = False
         width = vt.shape[1]

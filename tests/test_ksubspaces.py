@@ -7,7 +7,8 @@ import pytest
 from numpy.testing import assert_allclose, assert_array_equal
 
 from sklearn_gpca._affinity import sign_invariant_neighbors
-from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
+from sklearn_gpca._ksubspaces import k_subspaces
+from sklearn_gpca._subspaces import fit_subspace, sine_residuals
 
 
 def unit(X):
@@ -50,14 +51,14 @@ def test_refinement_fixes_corrupted_labels(smoothing):
     flip = rng.choice(300, 60, replace=False)
     labels[flip] = (labels[flip] + 1) % 3
     neighbors = sign_invariant_neighbors(X, 10)
-    refined, bases, n_iter, converged = refine_ksubspaces(
+    refined, bases, n_iter, converged = k_subspaces(
         X,
         labels,
         3,
         neighbors=neighbors,
         smoothing=smoothing,
         subspace_dim=4,
-        rank_tol=0.05,
+        subspace_dim_tol=0.05,
         max_iter=50,
         random_state=np.random.RandomState(0),
     )
@@ -69,14 +70,14 @@ def test_refinement_fixes_corrupted_labels(smoothing):
 def test_refinement_keeps_true_labels():
     rng = np.random.RandomState(2)
     X, y, _ = union([3, 3], 80, rng)
-    refined, _, n_iter, converged = refine_ksubspaces(
+    refined, _, n_iter, converged = k_subspaces(
         X,
         y,
         2,
         neighbors=sign_invariant_neighbors(X, 10),
         smoothing=5.0,
         subspace_dim=3,
-        rank_tol=0.05,
+        subspace_dim_tol=0.05,
         max_iter=5,
         random_state=np.random.RandomState(0),
     )
