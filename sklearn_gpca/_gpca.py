@@ -117,8 +117,8 @@ default="local"
         n_neighbors`` neighbours, and its entrywise product with the graph
         of the polynomial's gradients -- each split into ``n_clusters``
         clusters and into ``n_clusters + 1`` clusters greedily merged back;
-        the selection (stage 5) keeps one. About three times the cost of
-        ``"spectral"``.
+        the selection (stage 5) keeps one. Six refinements instead of one:
+        the time column of ``benchmarks/results/ablation.md`` compares them.
     n_init : int, default=10
         Number of k-means runs on each spectral embedding.
     refine : bool, default=True
