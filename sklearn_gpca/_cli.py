@@ -1,11 +1,10 @@
-"""Command line: ``python -m sklearn_gpca {demo,segment,benchmark}``.
+"""Command line: ``python -m sklearn_gpca {demo,segment}``.
 
 ``demo`` segments synthetic trajectories; ``segment`` reads trajectories from a
 ``.npz``, ``.csv`` or Hopkins155-style ``.mat`` file, segments them and writes
-the labels; ``benchmark hopkins155`` runs the Hopkins155 benchmark of
-``benchmarks/bench_hopkins155.py`` with a progress display. Mistakes in the
-input (missing file, unknown format, wrong shape) end with a one-line message
-on stderr and exit status 2.
+the labels. Mistakes in the input (missing file, unknown format, wrong shape)
+end with a one-line message on stderr and exit status 2. The Hopkins155
+benchmark is ``benchmarks/bench_hopkins155.py``, outside the package.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -360,56 +359,6 @@ def _plot_segmentation(X, labels, y, path):
 
 
 # ---------------------------------------------------------------------------
-# benchmark
-
-
-class _Progress:
-    """``[####......]  40/930 fits  4 %  12 s`` on stderr, redrawn in place."""
-
-    def __init__(self, stream=None, width=30):
-        self.stream = sys.stderr if stream is None else stream
-        self.width = width
-        self.start = None
-
-    def __call__(self, done, total):
-        if self.start is None:
-            self.start = time.perf_counter()
-        elapsed = time.perf_counter() - self.start
-        filled = self.width * done // max(total, 1)
-        bar = "#" * filled + "." * (self.width - filled)
-        line = f"\r  [{bar}] {done:>{len(str(total))}}/{total} fits {elapsed:4.0f} s"
-        if done < total and done:
-            line += f", about {elapsed * (total - done) / done:.0f} s left  "
-        else:
-            line += " " * 20
-        print(line, end="", file=self.stream, flush=True)
-        if done == total:
-            print(file=self.stream)
-            self.start = None
-
-
-def _benchmark(args):
-    from sklearn_gpca._benchmark import run_hopkins155
-
-    if args.data_home is not None and not Path(args.data_home).is_dir():
-        raise UsageError(f"{args.data_home}: no such directory")
-    command = " ".join(["python -m sklearn_gpca benchmark hopkins155", *args.argv])
-    try:
-        run_hopkins155(
-            args.data_home,
-            args.output_dir,
-            command=command,
-            jobs=args.jobs,
-            seed=args.seed,
-            missing=args.missing,
-            progress=_Progress(),
-        )
-    except FileNotFoundError as exc:
-        raise UsageError(str(exc)) from exc
-    return 0
-
-
-# ---------------------------------------------------------------------------
 
 
 def build_parser():
@@ -470,38 +419,6 @@ def build_parser():
     segment.add_argument("--seed", type=int, default=0, help="random_state")
     segment.set_defaults(run=_segment)
 
-    benchmark = commands.add_parser(
-        "benchmark",
-        help="run a benchmark (hopkins155)",
-        description=(
-            "Misclassification on Hopkins155 beside the published methods, as "
-            "benchmarks/bench_hopkins155.py; writes hopkins155.md, "
-            "hopkins155_missing.md and their CSV files to --output-dir."
-        ),
-    )
-    benchmark.add_argument("name", choices=["hopkins155"])
-    benchmark.add_argument(
-        "--data-home",
-        metavar="DIR",
-        help="Hopkins155 folder (default: $SKLEARN_GPCA_DATA/hopkins155)",
-    )
-    benchmark.add_argument("--jobs", type=_positive_int, default=2, metavar="J")
-    benchmark.add_argument("--seed", type=int, default=0)
-    benchmark.add_argument(
-        "--missing",
-        type=float,
-        nargs="*",
-        default=[0.0, 0.1, 0.2, 0.3, 0.4, 0.5],
-        help="occlusion fractions for the two-motion sequences (none to skip)",
-    )
-    benchmark.add_argument(
-        "--output-dir",
-        type=Path,
-        default=Path("."),
-        metavar="DIR",
-        help="where to write the tables (default: current directory)",
-    )
-    benchmark.set_defaults(run=_benchmark)
     return parser
 
 
@@ -509,7 +426,6 @@ def main(argv=None):
     """Run the command line; return the exit status."""
     argv = sys.argv[1:] if argv is None else list(argv)
     args = build_parser().parse_args(argv)
-    args.argv = argv[2:] if args.command == "benchmark" else argv
     try:
         return args.run(args)
     except UsageError as exc:

@@ -197,35 +197,6 @@ def test_segment_bad_n_motions_is_a_usage_error(tmp_path, capsys, value):
     assert "--n-motions" in capsys.readouterr().err
 
 
-def test_benchmark_missing_data_home(tmp_path, capsys):
-    status = main(["benchmark", "hopkins155", "--data-home", str(tmp_path / "no")])
-    assert status == 2
-    assert "no such directory" in capsys.readouterr().err
-    status = main(["benchmark", "hopkins155", "--data-home", str(tmp_path)])
-    assert status == 2
-    assert "No Hopkins155 sequences" in capsys.readouterr().err
-
-
-# One sequence leaves most table cells empty: their means warn.
-@pytest.mark.filterwarnings("ignore:Mean of empty slice:RuntimeWarning")
-@pytest.mark.filterwarnings("ignore:invalid value:RuntimeWarning")
-def test_benchmark_hopkins155_subset(tmp_path, capsys, hopkins155_dir):
-    data = tmp_path / "data"
-    data.mkdir()
-    (data / "1R2RC_g12").symlink_to(hopkins155_dir / "1R2RC_g12")
-    out = tmp_path / "out"
-    argv = ["benchmark", "hopkins155", "--data-home", str(data), "--jobs", "1"]
-    status = main([*argv, "--missing", "--output-dir", str(out)])
-    assert status == 0
-    captured = capsys.readouterr()
-    assert "1 sequences" in captured.err
-    assert "fits" in captured.err
-    table = (out / "hopkins155.md").read_text()
-    assert "python -m sklearn_gpca benchmark hopkins155 --data-home" in table
-    assert "| default pipeline |" in table
-    assert not (out / "hopkins155_missing.md").exists()
-
-
 def test_subprocess_segment_and_error(tmp_path, motions):
     X, y = motions
     path = write_npz(tmp_path / "tracks.npz", X, y)

@@ -3,10 +3,11 @@
 Choosing the number of motions and the rank
 =====================================================
 
-Without ground truth, ``GridSearchCV`` over ``gpcaclustering__n_clusters``
-selects by the pipeline's own ``score``: ``GPCAClustering.score`` is minus the
-lossy coding length per trajectory of the held-out trajectories segmented by
-``predict`` (:func:`~sklearn_gpca.coding_length_cost`), the criterion of
+Without ground truth, :class:`~sklearn.model_selection.GridSearchCV` over
+``gpcaclustering__n_clusters`` selects by the pipeline's own ``score``:
+``GPCAClustering.score`` is minus the lossy coding length per trajectory of
+the held-out trajectories segmented by ``predict``
+(:func:`~sklearn_gpca.coding_length_cost`), the criterion of
 ``n_clusters="auto"`` and :class:`~sklearn_gpca.NClustersSearch`. It is
 measured on the projected points, so it compares numbers of motions at one
 rank. On this draw of three motions the held-out folds prefer two and the
