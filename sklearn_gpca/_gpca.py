@@ -51,27 +51,28 @@ from sklearn_gpca._subspaces import (
     hyperplanes_from_normals,
     sine_residuals,
 )
+from sklearn_gpca._validation import Count
 from sklearn_gpca._veronese import n_monomials, veronese_exponents
 
 _PARAMETER_CONSTRAINTS = {
     "normalize": ["boolean"],
     "point_normals": [StrOptions(set(POINT_NORMALS))],
     "affinity": [StrOptions({"nearest_neighbors", "all_pairs"})],
-    "n_neighbors": [Interval(Integral, 1, None, closed="left")],
-    "affinity_power": [Interval(Integral, 1, None, closed="left")],
+    "n_neighbors": [Count(1, None, closed="left")],
+    "affinity_power": [Count(1, None, closed="left")],
     "init": [StrOptions({"multi", "spectral"})],
-    "n_init": [Interval(Integral, 1, None, closed="left")],
+    "n_init": [Count(1, None, closed="left")],
     "refine": ["boolean"],
     "smoothing": [Interval(Real, 0, None, closed="left")],
     "subspace_dim": [
-        Interval(Integral, 1, None, closed="left"),
+        Count(1, None, closed="left"),
         StrOptions({"auto"}),
         None,
     ],
     "normal_tol": [Interval(Real, 0, 1, closed="both")],
     "subspace_dim_tol": [Interval(Real, 0, 1, closed="both")],
-    "max_iter": [Interval(Integral, 1, None, closed="left")],
-    "max_spectral_samples": [Interval(Integral, 2, None, closed="left"), None],
+    "max_iter": [Count(1, None, closed="left")],
+    "max_spectral_samples": [Count(2, None, closed="left"), None],
     "n_jobs": [Integral, None],
     "random_state": ["random_state"],
 }
@@ -358,7 +359,7 @@ def _extend(points, unit, polynomials, sample, segmented, bases, p, random_state
 @validate_params(
     {
         "X": ["array-like"],
-        "n_clusters": [Interval(Integral, 1, None, closed="left")],
+        "n_clusters": [Count(1, None, closed="left")],
         **_PARAMETER_CONSTRAINTS,
     },
     prefer_skip_nested_validation=True,
@@ -717,10 +718,10 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
 
     _parameter_constraints: dict = {
         "n_clusters": [
-            Interval(Integral, 1, None, closed="left"),
+            Count(1, None, closed="left"),
             StrOptions({"auto"}),
         ],
-        "max_clusters": [Interval(Integral, 1, None, closed="left")],
+        "max_clusters": [Count(1, None, closed="left")],
         **_PARAMETER_CONSTRAINTS,
     }
 

@@ -502,3 +502,28 @@ def test_fitted_attributes_are_set_in_fit_only():
         }
         if method.name not in ("__init__", "fit"):
             assert not assigned, (method.name, assigned)
+
+
+# Reliability: no silent wrong answer (issue 13).
+
+
+@pytest.mark.parametrize("normalize", [False, True])
+@pytest.mark.parametrize("scale", [1e-300, 1e-150, 1e150, 1e300])
+def test_labels_do_not_depend_on_a_global_scale(normalize, scale):
+    rng = np.random.RandomState(0)
+    X, _ = sample_subspaces(random_bases([4, 4, 4], 5, rng), 60, rng)
+    reference = GPCAClustering(3, normalize=normalize, random_state=0).fit(X)
+    scaled = GPCAClustering(3, normalize=normalize, random_state=0).fit(scale * X)
+    # equal up to the names of the groups (scaling by 1e150 rounds the last bit)
+    assert_same_segmentation(scaled.labels_, reference.labels_)
+    assert_allclose(scaled.point_normals_, reference.point_normals_, atol=1e-8)
+    assert_same_segmentation(scaled.predict(scale * X), reference.predict(X))
+
+
+@pytest.mark.parametrize(
+    "name", ["n_clusters", "max_clusters", "n_neighbors", "affinity_power", "n_init"]
+)
+def test_boolean_counts_are_rejected(name):
+    X = np.random.RandomState(0).randn(30, 3)
+    with pytest.raises(ValueError, match=f"'{name}' parameter .* Got True"):
+        GPCAClustering(**{name: True}).fit(X)
