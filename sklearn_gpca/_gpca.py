@@ -158,8 +158,8 @@ default="local"
         ``None`` means 1 unless in a :func:`joblib.parallel_config` context,
         -1 all processors).
     random_state : int, RandomState instance or None, default=None
-        Seeds the Lanczos start vectors, k-means, the reseeding of emptied
-        clusters and the subsample. Pass an int for reproducible results."""
+        Seeds the subsample, the Lanczos start vectors and k-means. Pass an
+        int for reproducible results."""
 
 
 def _fill_parameters(function):
@@ -202,6 +202,28 @@ def _nonzero_rows(X, n_clusters):
             stacklevel=4,
         )
     return nonzero
+
+
+def _warn_empty_clusters(labels, n_clusters, unit):
+    """Say why the segmentation has fewer than ``n_clusters`` groups."""
+    empty = np.flatnonzero(np.bincount(labels, minlength=n_clusters) == 0)
+    if empty.size == 0:
+        return
+    n_distinct = np.unique(unit, axis=0).shape[0]
+    if n_distinct < n_clusters:
+        reason = f"X has only {n_distinct} distinct non-zero points"
+    else:
+        reason = (
+            "the refinement could not keep a subspace for them: the points "
+            f"support fewer subspaces; fit n_clusters={n_clusters - empty.size}, "
+            "or choose it with n_clusters='auto'"
+        )
+    warnings.warn(
+        f"{empty.size} of the n_clusters={n_clusters} clusters are empty "
+        f"(labels {describe_indices(empty)}): {reason}.",
+        UserWarning,
+        stacklevel=4,
+    )
 
 
 def _neighborhoods(unit, p):
@@ -281,14 +303,13 @@ def _subspace_dim(p, unit):
     return unit.shape[1] - 1 if p["subspace_dim"] is None else p["subspace_dim"]
 
 
-def _refinement(p, random_state):
+def _refinement(p):
     """Keyword arguments of :func:`k_subspaces` from the parameters."""
     return dict(
         smoothing=p["smoothing"],
         subspace_dim=p["subspace_dim"],
         subspace_dim_tol=p["subspace_dim_tol"],
         max_iter=p["max_iter"],
-        random_state=random_state,
     )
 
 
@@ -306,7 +327,7 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
                 labels,
                 n_clusters,
                 neighbors=local,
-                **_refinement(p, random_state),
+                **_refinement(p),
             )
             refined.append(labels)
             n_iter, converged = max(n_iter, iterations), converged and settled
@@ -333,7 +354,7 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
     )
 
 
-def _extend(points, unit, polynomials, sample, segmented, bases, p, random_state):
+def _extend(points, unit, polynomials, sample, segmented, bases, p):
     """Stage 6: labels and point normals of all points from the subsample's."""
     n_clusters = len(bases)
     neighbors = extension_neighbors(
@@ -349,7 +370,7 @@ def _extend(points, unit, polynomials, sample, segmented, bases, p, random_state
             labels,
             n_clusters,
             neighbors=neighbors,
-            **_refinement(p, random_state),
+            **_refinement(p),
         )
     point_normals = unit_gradients(points, polynomials[0], n_clusters)
     point_normals[sample] = segmented.point_normals
@@ -480,12 +501,13 @@ def _gpca(X, n_clusters, p):
         if p["refine"]:
             bases, _ = fit_subspaces(unit[sample], labels, *fit)
         labels, point_normals, n_iter, converged = _extend(
-            points, unit, polynomials, sample, result, bases, p, random_state
+            points, unit, polynomials, sample, result, bases, p
         )
         result.n_iter = max(result.n_iter, n_iter)
         result.converged = result.converged and converged
     if p["refine"]:
         bases, normals = fit_subspaces(unit, labels, *fit)
+    _warn_empty_clusters(labels, n_clusters, unit)
     if not result.converged:
         warnings.warn(
             f"K-subspaces refinement stopped at max_iter={p['max_iter']} "

@@ -11,10 +11,9 @@ zero smoothing this is plain K-subspaces (Bradley & Mangasarian 2000; Ho et al.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-from sklearn.utils import check_random_state
 
 from sklearn_gpca._rows import TINY
-from sklearn_gpca._subspaces import fit_subspace, sine_residuals
+from sklearn_gpca._subspaces import fit_subspaces, sine_residuals
 
 
 def smoothed_cost(residuals, scale, neighbor_labels, smoothing):
@@ -70,6 +69,84 @@ def smoothed_assignment(unit, bases, scale, neighbor_labels, smoothing):
     return np.argmin(cost, axis=1).astype(np.intp)
 
 
+def refill_small_clusters(
+    points, labels, n_clusters, subspace_dim, subspace_dim_tol, *, clusters=None
+):
+    """Reseed every cluster too small to fit a hyperplane where the fit is worst.
+
+    A cluster with fewer than ``n_features - 1`` points cannot determine a
+    hyperplane, and one fitted to a few stray points attracts none: left alone,
+    it ends empty. It is given instead the point worst fitted by its own
+    cluster's subspace together with its nearest lines through the origin
+    (largest ``|cos|``), ``2 (n_features - 1)`` points in all, taken from
+    clusters large enough to spare them: a patch of the subspace that the
+    current fit explains least (the relocation of emptied clusters of
+    k-means, for subspaces). The cluster also takes every point that the
+    subspace of this patch fits better than its own cluster's does.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_points, n_features)
+        Unit vectors.
+    labels : ndarray of shape (n_points,)
+        Labels in ``0 .. n_clusters - 1``.
+    n_clusters : int
+        Number of clusters.
+    subspace_dim, subspace_dim_tol
+        Dimension of the subspaces (see
+        :func:`~sklearn_gpca._subspaces.fit_subspace`).
+    clusters : iterable of int, default=None
+        The clusters that may be reseeded; None means all.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_points,), dtype=intp
+        The labels, reseeded where a cluster was too small and another could
+        spare points.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca._ksubspaces import refill_small_clusters
+    >>> rng = np.random.RandomState(0)
+    >>> X = np.vstack([np.c_[rng.randn(20, 2), np.zeros(20)],
+    ...                np.c_[np.zeros(20), rng.randn(20, 2)]])
+    >>> X /= np.linalg.norm(X, axis=1, keepdims=True)
+    >>> labels = refill_small_clusters(X, np.zeros(40, dtype=int), 2, 2, 0.05)
+    >>> labels.reshape(2, 20).std(axis=1)  # one plane each
+    array([0., 0.])
+    """
+    min_size = points.shape[1] - 1
+    seed_size = 2 * min_size
+    if np.all(np.bincount(labels, minlength=n_clusters) >= min_size):
+        return labels
+    labels = np.array(labels, dtype=np.intp)
+    for k in range(n_clusters) if clusters is None else clusters:
+        counts = np.bincount(labels, minlength=n_clusters)
+        donors = (counts >= min_size + seed_size)[labels]
+        if counts[k] >= min_size or not np.any(donors):
+            continue
+        bases, _ = fit_subspaces(
+            points, labels, n_clusters, subspace_dim, subspace_dim_tol
+        )
+        own = sine_residuals(points, bases)[np.arange(points.shape[0]), labels]
+        worst = np.argmax(np.where(donors, own, -np.inf))
+        closeness = np.where(donors, np.abs(points @ points[worst]), -np.inf)
+        seed = np.argsort(-closeness, kind="stable")[:seed_size]
+        # the points the seed's subspace explains better than their own do
+        basis, _ = fit_subspaces(
+            points[seed],
+            np.zeros(seed_size, np.intp),
+            1,
+            subspace_dim,
+            subspace_dim_tol,
+        )
+        closer = donors & (sine_residuals(points, basis)[:, 0] < own)
+        closer[seed] = True
+        labels[closer] = k
+    return labels
+
+
 def k_subspaces(
     points,
     labels,
@@ -80,7 +157,6 @@ def k_subspaces(
     subspace_dim=None,
     subspace_dim_tol=0.05,
     max_iter=50,
-    random_state=None,
 ):
     """Smoothed K-subspaces from initial labels.
 
@@ -109,9 +185,10 @@ def k_subspaces(
     subspace_dim_tol : float, default=0.05
         Relative singular-value threshold of ``subspace_dim="auto"``.
     max_iter : int, default=50
-        Maximum number of fit/assign rounds.
-    random_state : int, RandomState instance or None, default=None
-        Reseeds a cluster that lost too many points to fit its subspace.
+        Maximum number of fit/assign rounds. Before each round a cluster with
+        too few points to fit a hyperplane is reseeded
+        (:func:`refill_small_clusters`), once: a cluster that the assignments
+        empty again has no subspace the points support, and stays empty.
 
     Returns
     -------
@@ -137,22 +214,20 @@ def k_subspaces(
     >>> labels.reshape(2, 20).std(axis=1), converged
     (array([0., 0.]), True)
     """
-    random_state = check_random_state(random_state)
     labels = np.asarray(labels, dtype=np.intp).copy()
     n_points, n_features = points.shape
-    if subspace_dim is None:
-        subspace_dim = n_features - 1
+    fit = (n_clusters, n_features - 1 if subspace_dim is None else subspace_dim)
+    fit += (subspace_dim_tol,)
     converged = False
     previous = None
     n_iter = 0
+    reseedable = set(range(n_clusters))
     while n_iter < max_iter:
         n_iter += 1
-        bases = []
-        for k in range(n_clusters):
-            members = points[labels == k]
-            if members.shape[0] < n_features - 1:
-                members = points[random_state.choice(n_points, n_features - 1)]
-            bases.append(fit_subspace(members, subspace_dim, subspace_dim_tol))
+        refilled = refill_small_clusters(points, labels, *fit, clusters=reseedable)
+        reseedable -= set(np.unique(refilled[refilled != labels]).tolist())
+        labels = refilled
+        bases, _ = fit_subspaces(points, labels, *fit)
         residuals = sine_residuals(points, bases)
         scale = np.median(residuals[np.arange(n_points), labels])
         neighbor_labels = labels[neighbors] if smoothing > 0 else None

@@ -19,7 +19,7 @@ from sklearn.pipeline import make_pipeline
 
 from sklearn_gpca import PowerFactorization, gpca, k_subspaces
 from sklearn_gpca._affinity import sign_invariant_neighbors
-from sklearn_gpca._gpca import GPCAClustering
+from sklearn_gpca._gpca import GPCAClustering, _warn_empty_clusters
 from sklearn_gpca._normals import local_normal_bases
 from sklearn_gpca._selection import select_candidate
 from sklearn_gpca._veronese import veronese_map
@@ -527,3 +527,37 @@ def test_boolean_counts_are_rejected(name):
     X = np.random.RandomState(0).randn(30, 3)
     with pytest.raises(ValueError, match=f"'{name}' parameter .* Got True"):
         GPCAClustering(**{name: True}).fit(X)
+
+
+def test_close_hyperplanes_get_one_cluster_each():
+    """Three exact hyperplanes of R^5, two of them with normals 32 degrees
+    apart: spectral clustering leaves a small third cluster, which the
+    refinement used to empty (sizes 67, 113, 0) and now refills."""
+    rs = np.random.RandomState(0)
+    X = np.vstack(
+        [
+            rs.standard_normal((60, 4)) @ np.linalg.qr(rs.standard_normal((5, 4)))[0].T
+            for _ in range(3)
+        ]
+    )
+    model = GPCAClustering(3, random_state=0).fit(X)
+    assert_array_equal(np.bincount(model.labels_, minlength=3), [60, 60, 60])
+    assert misclassification_rate(np.repeat([0, 1, 2], 60), model.labels_) == 0
+    assert np.all(np.isfinite(model.candidate_ncuts_))
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_more_clusters_than_motions_fills_every_cluster(seed):
+    X, _ = make_motions(2, n_points=80, random_state=seed)
+    Z = PowerFactorization(random_state=0).fit_transform(X)
+    labels = GPCAClustering(4, random_state=0).fit(Z).labels_
+    assert np.all(np.bincount(labels, minlength=4) > 0)
+
+
+def test_empty_clusters_are_announced_with_the_reason():
+    unit = np.eye(3)[[0, 0, 1, 1, 2]].astype(float)
+    with pytest.warns(UserWarning, match=r"1 of the n_clusters=4 .* only 3 distinct"):
+        _warn_empty_clusters(np.array([0, 0, 1, 1, 2]), 4, unit)
+    unit = np.random.RandomState(0).randn(8, 3)
+    with pytest.warns(UserWarning, match=r"2 of the n_clusters=4 .*n_clusters=2"):
+        _warn_empty_clusters(np.repeat([0, 3], 4), 4, unit)
