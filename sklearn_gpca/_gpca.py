@@ -40,7 +40,7 @@ from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._model_selection import coding_length_cost, select_n_clusters
 from sklearn_gpca._normals import POINT_NORMALS, point_normal_bases
 from sklearn_gpca._polynomials import unit_gradients, vanishing_polynomials
-from sklearn_gpca._rows import power_of_two_scale, unit_rows
+from sklearn_gpca._rows import canonical_sign, power_of_two_scale, unit_rows
 from sklearn_gpca._selection import select_candidate
 from sklearn_gpca._spectral import (
     normal_subspace_features,
@@ -179,29 +179,61 @@ def _check_complete(X):
         )
 
 
-def _nonzero_rows(X, n_clusters):
-    """Mask of the rows used in the fit, after checking there are enough."""
+def _distinct_lines(X):
+    """The rows of ``X`` the fit uses: one per line through the origin.
+
+    A linear subspace holds a point's whole line, so an all-zero row (on every
+    subspace) carries no information, and a row on the same line as an
+    earlier row (a duplicate, a multiple, its opposite) carries none beyond
+    it: the fit uses the first row of each line, and every row gets its
+    line's label. Lines are compared by their unit direction to 12 decimals.
+
+    Returns
+    -------
+    rows : ndarray of int
+        Increasing indices of the rows used.
+    owner : ndarray of shape (n_samples,), dtype=intp
+        Index into ``rows`` of each row's line; -1 for all-zero rows.
+    """
+    nonzero = np.flatnonzero(np.any(X, axis=1))
+    directions = np.round(canonical_sign(unit_rows(X[nonzero])), 12) + 0.0
+    _, first, line = np.unique(
+        directions, axis=0, return_index=True, return_inverse=True
+    )
+    order = np.argsort(first)
+    rank = np.empty_like(order)
+    rank[order] = np.arange(order.size)
+    owner = np.full(X.shape[0], -1, dtype=np.intp)
+    owner[nonzero] = rank[line.reshape(-1)]
+    return nonzero[first[order]], owner
+
+
+def _check_rows(X, rows, owner, n_clusters):
+    """Enough rows for the Veronese embedding; a warning for all-zero rows."""
     n_samples, n_features = X.shape
-    nonzero = np.any(X, axis=1)
-    n_zero = n_samples - np.count_nonzero(nonzero)
+    zero = np.flatnonzero(owner < 0)
     n_mono = n_monomials(n_features, n_clusters)
-    if n_samples - n_zero < n_mono - 1:
-        zeros = f" ({n_zero} of them all-zero)" if n_zero else ""
+    if rows.size < n_mono - 1:
+        repeated = n_samples - zero.size - rows.size
+        details = [f"{zero.size} of them all-zero"] if zero.size else []
+        if repeated:
+            details.append(f"{repeated} on the line of an earlier row")
+        details = f" ({', '.join(details)})" if details else ""
         raise ValueError(
-            f"n_samples={n_samples}{zeros} is too few for the Veronese "
+            f"n_samples={n_samples}{details} is too few for the Veronese "
             f"embedding of degree n_clusters={n_clusters} in "
             f"n_features={n_features} dimensions: it has {n_mono} monomials, "
-            f"so at least {n_mono - 1} non-zero samples are needed."
+            f"so at least {n_mono - 1} non-zero samples on distinct lines "
+            "through the origin are needed."
         )
-    if n_zero:
+    if zero.size:
         warnings.warn(
-            f"X has {describe_indices(np.flatnonzero(~nonzero))} all-zero "
+            f"X has {describe_indices(zero)} all-zero "
             "rows. The origin lies on every linear subspace: these rows are "
             "left out of the fit, get label 0 and a zero point normal.",
             UserWarning,
             stacklevel=4,
         )
-    return nonzero
 
 
 def _warn_empty_clusters(labels, n_clusters, unit):
@@ -479,9 +511,10 @@ def _gpca(X, n_clusters, p):
             "rank. Set affinity_power=1."
         )
     _check_complete(X)
-    nonzero = _nonzero_rows(X, n_clusters)
+    rows, owner = _distinct_lines(X)
+    _check_rows(X, rows, owner, n_clusters)
     random_state = check_random_state(p["random_state"])
-    points = X[nonzero]
+    points = X[rows]
     points = unit_rows(points) if p["normalize"] else power_of_two_scale(points)
     polynomials = vanishing_polynomials(points, n_clusters)
     unit = unit_rows(points)
@@ -515,15 +548,16 @@ def _gpca(X, n_clusters, p):
             ConvergenceWarning,
             stacklevel=3,
         )
+    fitted = owner >= 0
     result.labels = np.zeros(X.shape[0], dtype=np.intp)
-    result.labels[nonzero] = labels
+    result.labels[fitted] = labels[owner[fitted]]
     result.point_normals = np.zeros_like(X)
-    result.point_normals[nonzero] = point_normals
+    result.point_normals[fitted] = point_normals[owner[fitted]]
     result.update(
         normals=normals,
         subspace_bases=bases,
         polynomials=polynomials,
-        segmented=np.flatnonzero(nonzero)[segmented],
+        segmented=rows[segmented],
     )
     return result
 
@@ -808,10 +842,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     def _feasible_n_clusters(self, X):
         """``1 .. max_clusters`` while the Veronese embedding has enough points.
 
-        Degree ``n`` needs ``n_monomials - 1`` non-zero points; ``n = 1`` is
-        always tried, so that too few points raise the error of the fit.
+        Degree ``n`` needs ``n_monomials - 1`` non-zero points on distinct
+        lines; ``n = 1`` is always tried, so that too few points raise the
+        error of the fit.
         """
-        n_nonzero = np.count_nonzero(np.any(X, axis=1))
+        n_nonzero = _distinct_lines(X)[0].size
         feasible = [1]
         for n in range(2, self.max_clusters + 1):
             if n_monomials(X.shape[1], n) - 1 > n_nonzero:

@@ -561,3 +561,29 @@ def test_empty_clusters_are_announced_with_the_reason():
     unit = np.random.RandomState(0).randn(8, 3)
     with pytest.warns(UserWarning, match=r"2 of the n_clusters=4 .*n_clusters=2"):
         _warn_empty_clusters(np.repeat([0, 3], 4), 4, unit)
+
+
+@pytest.mark.parametrize("copies", [11, "mixed"])
+def test_copies_of_a_point_do_not_change_the_segmentation(three_hyperplanes, copies):
+    """A point repeated (a tracker re-detecting a feature), scaled or flipped
+    lies on the same line: the fit uses the line once and labels every copy."""
+    _, X, _, _, _, model = three_hyperplanes
+    rng = np.random.RandomState(0)
+    counts = np.full(len(X), 11) if copies == 11 else rng.randint(1, 20, len(X))
+    owner = np.repeat(np.arange(len(X)), counts)
+    factors = (
+        np.ones(len(owner))
+        if copies == 11
+        else rng.choice([-3.0, 1.0, 2.0], len(owner))
+    )
+    factors[np.r_[0, np.cumsum(counts)[:-1]]] = 1.0  # first copy as in X
+    repeated = GPCAClustering(3, random_state=0).fit(X[owner] * factors[:, None])
+    assert_array_equal(repeated.labels_, model.labels_[owner])
+    assert_allclose(np.abs(repeated.normals_), np.abs(model.normals_))
+    assert repeated.n_spectral_samples_ == len(X)
+
+
+def test_too_few_distinct_lines():
+    X = np.repeat(np.random.RandomState(0).randn(20, 5), 10, axis=0)
+    with pytest.raises(ValueError, match=r"n_samples=200 \(180 on the line of an"):
+        GPCAClustering(n_clusters=3).fit(X)
