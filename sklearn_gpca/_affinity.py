@@ -19,7 +19,9 @@ from sklearn_gpca._rows import TINY
 from sklearn_gpca._spectral import normal_subspace_features
 
 
-def sign_invariant_neighbors(points, n_neighbors, *, queries=None, n_jobs=None):
+def sign_invariant_neighbors(
+    points, n_neighbors, *, queries=None, n_jobs=None, return_distance=False
+):
     """Indices of the nearest neighbours of unit vectors, up to sign.
 
     Parameters
@@ -34,9 +36,13 @@ def sign_invariant_neighbors(points, n_neighbors, *, queries=None, n_jobs=None):
     n_jobs : int or None, default=None
         Parallel jobs of the search (see
         :class:`sklearn.neighbors.NearestNeighbors`).
+    return_distance : bool, default=False
+        With ``queries``: also return the distances.
 
     Returns
     -------
+    distances : ndarray of shape (n_queries, n_neighbors)
+        With ``return_distance`` only: ``min(||q - x_j||, ||q + x_j||)``.
     indices : ndarray of shape (n_samples or n_queries, n_neighbors), dtype=intp
         Row ``i`` lists the points ``j != i`` in increasing order of
         ``min(||x_i - x_j||, ||x_i + x_j||)``, i.e. of the angle between the
@@ -55,7 +61,9 @@ def sign_invariant_neighbors(points, n_neighbors, *, queries=None, n_jobs=None):
     if queries is not None:
         tree = NearestNeighbors(n_neighbors=n_neighbors, n_jobs=n_jobs)
         tree.fit(np.vstack([points, -points]))
-        return tree.kneighbors(queries, return_distance=False) % n_samples
+        distances, found = tree.kneighbors(queries)
+        found %= n_samples
+        return (distances, found) if return_distance else found
     tree = NearestNeighbors(
         n_neighbors=min(n_neighbors + 2, 2 * n_samples), n_jobs=n_jobs
     )

@@ -60,6 +60,37 @@ def extension_neighbors(unit, sample, sample_neighbors, *, n_jobs=None):
     return neighbors
 
 
+def reference_neighbors(reference, n_local, queries, *, n_jobs=None):
+    """Nearest reference points of each query, the query's own line excluded.
+
+    A query on the line of a reference point (a training point) gets the
+    ``n_local`` nearest *other* reference points, the neighbourhood it had in
+    the fit; any other query its ``n_local`` nearest reference points.
+
+    Parameters
+    ----------
+    reference : ndarray of shape (n_reference, n_features)
+        Unit points with known labels.
+    n_local : int
+        Number of neighbours, at most ``n_reference - 1``.
+    queries : ndarray of shape (n_queries, n_features)
+        Unit points.
+    n_jobs : int or None, default=None
+        Parallel jobs of the neighbour search.
+
+    Returns
+    -------
+    neighbors : ndarray of shape (n_queries, n_local), dtype=intp
+        Indices into ``reference``.
+    """
+    distances, found = sign_invariant_neighbors(
+        reference, n_local + 1, queries=queries, n_jobs=n_jobs, return_distance=True
+    )
+    # lines that agree to 12 decimals are one line (as in the fit's dedupe)
+    own_line = distances[:, 0] <= 1e-12
+    return np.where(own_line[:, None], found[:, 1:], found[:, :-1])
+
+
 def extend_labels(unit, sample, sample_labels, neighbors, bases, *, smoothing):
     """Labels of all points from those of the subsample.
 

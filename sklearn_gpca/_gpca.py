@@ -34,8 +34,12 @@ from sklearn_gpca._candidates import (
     coarse_n_neighbors,
     spectral_candidates,
 )
-from sklearn_gpca._extension import extend_labels, extension_neighbors
-from sklearn_gpca._ksubspaces import k_subspaces
+from sklearn_gpca._extension import (
+    extend_labels,
+    extension_neighbors,
+    reference_neighbors,
+)
+from sklearn_gpca._ksubspaces import k_subspaces, smoothed_assignment
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._model_selection import coding_length_cost, select_n_clusters
 from sklearn_gpca._normals import POINT_NORMALS, point_normal_bases
@@ -466,7 +470,10 @@ def gpca(
         - ``point_normals``, ndarray of shape (P, K);
         - ``polynomials``, ndarray of shape (n_polynomials, n_monomials);
         - ``segmented``, ndarray of int: the rows of ``X`` segmented by the
-          graph route (all non-zero rows, or the subsample);
+          graph route (all non-zero rows on distinct lines, or a subsample);
+        - ``reference``, ndarray of int: the rows whose labels smooth the
+          labelling of new points (``segmented`` with a smoothed refinement,
+          none otherwise);
         - ``candidate_labels``, ndarray of shape (n_candidates,
           len(segmented)): the refined candidates;
         - ``candidate_ncuts``, ``candidate_residuals``, ndarray of shape
@@ -474,7 +481,10 @@ def gpca(
         - ``selection_graph``: the sparse graph of the cuts, or None;
         - ``local_neighbors``, ndarray of shape (len(segmented), n_local):
           the neighbourhoods of the smoothing, or None;
-        - ``n_iter``, int, and ``converged``, bool: of the refinement.
+        - ``n_iter``, int, and ``converged``, bool: of the refinement;
+        - ``residual_scale``, float: the median squared sine distance of the
+          points to their own subspace, the unit of the smoothing (NaN without
+          refinement).
 
     See Also
     --------
@@ -538,8 +548,11 @@ def _gpca(X, n_clusters, p):
         )
         result.n_iter = max(result.n_iter, n_iter)
         result.converged = result.converged and converged
+    result.residual_scale = np.nan
     if p["refine"]:
         bases, normals = fit_subspaces(unit, labels, *fit)
+        own = sine_residuals(unit, bases)[np.arange(n_points), labels]
+        result.residual_scale = float(np.median(own))
     _warn_empty_clusters(labels, n_clusters, unit)
     if not result.converged:
         warnings.warn(
@@ -553,11 +566,13 @@ def _gpca(X, n_clusters, p):
     result.labels[fitted] = labels[owner[fitted]]
     result.point_normals = np.zeros_like(X)
     result.point_normals[fitted] = point_normals[owner[fitted]]
+    smooths = p["refine"] and p["smoothing"] > 0
     result.update(
         normals=normals,
         subspace_bases=bases,
         polynomials=polynomials,
         segmented=rows[segmented],
+        reference=rows[segmented] if smooths else rows[:0],
     )
     return result
 
@@ -616,6 +631,15 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Orthonormal basis (columns) of each fitted subspace: ``d_k =
         n_features - 1`` for hyperplanes, ``d_k = 0`` for a cluster left
         without points. ``predict`` and ``score`` use them.
+    reference_points_ : ndarray of shape (n_reference, n_features)
+        The unit points whose labels smooth ``predict``: the points segmented
+        by the graph route (at most ``max_spectral_samples``); none without
+        refinement or smoothing.
+    reference_labels_ : ndarray of shape (n_reference,), dtype=intp
+        Their labels.
+    residual_scale_ : float
+        Median squared sine distance of the training points to their own
+        subspace, the unit of ``smoothing``; NaN without refinement.
     point_normals_ : ndarray of shape (n_samples, n_features)
         Unit normal at each training point, by the ``point_normals``
         estimator (its strongest direction); zero for all-zero rows. Points
@@ -854,9 +878,10 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             feasible.append(n)
         return feasible
 
-    def _select_n_clusters(self, X, params):
+    def _select_n_clusters(self, X):
         """``n_clusters="auto"``: :func:`select_n_clusters` over the feasible n."""
         feasible = self._feasible_n_clusters(X)
+        params = self._gpca_params()
 
         def segment(n):
             result = _gpca(X, n, params)
@@ -874,9 +899,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Parameters
         ----------
         X : array-like of shape (n_samples, n_features)
-            Points, e.g. trajectories projected onto ``R^5``. Needs
-            ``n_features >= 2`` and no NaN. All-zero rows carry no information:
-            they are left out with a warning.
+            Complete points, e.g. trajectories projected onto ``R^5``.
         y : Ignored
             Not used, present for API consistency by convention.
 
@@ -886,11 +909,10 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             Fitted estimator.
         """
         X = self._validate_X(X, reset=True)
-        params = self._gpca_params()
         if self.n_clusters == "auto":
-            result, self.n_clusters_costs_ = self._select_n_clusters(X, params)
+            result, self.n_clusters_costs_ = self._select_n_clusters(X)
         else:
-            result = _gpca(X, self.n_clusters, params)
+            result = _gpca(X, self.n_clusters, self._gpca_params())
         self.n_clusters_ = len(result.subspace_bases)
         self.labels_ = result.labels
         self.normals_ = result.normals
@@ -905,30 +927,55 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self.candidate_ncuts_ = result.candidate_ncuts
         self.candidate_residuals_ = result.candidate_residuals
         self.chosen_candidate_ = result.chosen_candidate
+        self.reference_points_ = unit_rows(X[result.reference])
+        self.reference_labels_ = self.labels_[result.reference]
+        self.residual_scale_ = result.residual_scale
         return self
 
-    def _sine_distances(self, X):
-        """Sine of the angle between each point and each fitted subspace."""
-        return np.sqrt(sine_residuals(unit_rows(X), self.subspace_bases_))
-
     def predict(self, X):
-        """Assign each point to the nearest fitted subspace.
+        """Label each point by the rule of the refinement.
+
+        With ``refine=True`` and ``smoothing > 0``, the label minimising the
+        smoothed cost of K-subspaces (see Notes): the squared sine distance to
+        each fitted subspace over ``residual_scale_``, plus ``smoothing`` for
+        each of its ``n_neighbors // 3`` nearest ``reference_points_`` (its own
+        line excluded) with another label. A training point gets the
+        neighbours it had in the fit, so ``predict`` on the training data
+        gives ``labels_`` (the fit's fixed point) except where the refinement
+        stopped on a 2-cycle or at ``max_iter``. Otherwise (and for
+        ``refine=False``, whose ``labels_`` are the spectral clustering's) the
+        nearest subspace, ``argmin_k sin(x, S_k)``.
 
         Parameters
         ----------
         X : array-like of shape (n_samples, n_features)
-            New points.
+            Points, new or not.
 
         Returns
         -------
         labels : ndarray of shape (n_samples,), dtype=intp
-            ``argmin_k sin(x, S_k)``, the subspace ``S_k`` spanned by
-            ``subspace_bases_[k]`` at the smallest angle from ``x``; the
-            origin, which lies on every subspace, gets label 0.
+            The origin, which lies on every subspace, gets label 0.
         """
         check_is_fitted(self)
         X = self._validate_X(X, reset=False)
-        return np.argmin(self._sine_distances(X), axis=1).astype(np.intp)
+        unit = unit_rows(X)
+        n_reference = self.reference_points_.shape[0]
+        neighbor_labels, smoothing = None, 0.0
+        if n_reference > 1 and self.smoothing > 0:
+            n_local = max(min(self.n_neighbors, n_reference - 1) // 3, 1)
+            neighbors = reference_neighbors(
+                self.reference_points_, n_local, unit, n_jobs=self.n_jobs
+            )
+            neighbor_labels, smoothing = (
+                self.reference_labels_[neighbors],
+                self.smoothing,
+            )
+        scale = 1.0 if np.isnan(self.residual_scale_) else self.residual_scale_
+        labels = smoothed_assignment(
+            unit, self.subspace_bases_, scale, neighbor_labels, smoothing
+        )
+        labels[~np.any(X, axis=1)] = 0
+        return labels
 
     def score(self, X, y=None):
         """Minus the coding length per point of `X` segmented by ``predict``.

@@ -308,6 +308,9 @@ def test_grid_search_agrees_with_auto(n_true):
     ).fit(X)
     auto = GPCAClustering("auto", max_clusters=4, random_state=0).fit(X)
     assert search.best_params_["n_clusters"] == auto.n_clusters_ == n_true
+    # score segments by predict, which gives labels_ on the training points
+    costs = -search.cv_results_["mean_test_score"] * X.shape[0]
+    assert_allclose(costs, auto.n_clusters_costs_, rtol=1e-3)
 
 
 def test_refinement_and_paper_settings_agree_on_clean_hyperplanes(three_hyperplanes):
@@ -587,3 +590,25 @@ def test_too_few_distinct_lines():
     X = np.repeat(np.random.RandomState(0).randn(20, 5), 10, axis=0)
     with pytest.raises(ValueError, match=r"n_samples=200 \(180 on the line of an"):
         GPCAClustering(n_clusters=3).fit(X)
+
+
+@pytest.mark.parametrize("max_spectral_samples", [5000, 120])
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_predict_on_the_training_points_gives_labels(seed, max_spectral_samples):
+    """predict applies the refinement's smoothed rule with the fit's
+    neighbourhoods, so on the training points it reproduces labels_."""
+    X, _ = make_motions(3, n_points=[100] * 3, n_frames=10, random_state=seed)
+    pipe = make_pipeline(
+        PowerFactorization(random_state=0),
+        GPCAClustering(3, max_spectral_samples=max_spectral_samples, random_state=0),
+    ).fit(X)
+    assert np.mean(pipe.predict(X) == pipe[-1].labels_) >= 0.99
+
+
+def test_predict_without_refinement_is_the_nearest_subspace(three_hyperplanes):
+    _, X, _, _, _, _ = three_hyperplanes
+    model = GPCAClustering(3, random_state=0, **PAPER).fit(X)
+    assert model.reference_points_.shape == (0, 5)
+    unit = X / np.linalg.norm(X, axis=1, keepdims=True)
+    sines = [1 - np.sum((unit @ B) ** 2, axis=1) for B in model.subspace_bases_]
+    assert_array_equal(model.predict(X), np.argmin(sines, axis=0))
