@@ -15,6 +15,8 @@ import numpy as np
 import scipy.sparse as sp
 from sklearn.neighbors import NearestNeighbors
 
+from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._memory import chunk_rows
 from sklearn_gpca._rows import TINY
 from sklearn_gpca._spectral import normal_subspace_features
 
@@ -95,14 +97,21 @@ def normal_affinity_graph(bases, codims, neighbors, power):
     -------
     affinity : scipy.sparse.csr_matrix of shape (n_samples, n_samples)
         Symmetrised with the entrywise maximum; ``O(n_samples * n_neighbors)``
-        stored entries.
+        stored entries. The edges are weighted in chunks, so the temporaries
+        stay within scikit-learn's ``working_memory``.
     """
     n_samples, n_neighbors = neighbors.shape
     rows = np.repeat(np.arange(n_samples), n_neighbors)
     cols = neighbors.ravel()
     # tr(P_i P_j) = <phi_i, phi_j> with phi the upper triangle of P_i = N_i N_i^T
     features = normal_subspace_features(bases)
-    traces = np.maximum(np.einsum("ed,ed->e", features[rows], features[cols]), 0.0)
+    traces = np.empty(rows.size)
+    # the features of both ends of a chunk of edges fit in working_memory
+    for edges in row_chunks(rows.size, chunk_rows(2 * features[0].nbytes)):
+        traces[edges] = np.einsum(
+            "ed,ed->e", features[rows[edges]], features[cols[edges]]
+        )
+    traces = np.maximum(traces, 0.0)
     weights = (traces / np.maximum(codims[rows], codims[cols])) ** power
     affinity = sp.csr_matrix((weights, (rows, cols)), shape=(n_samples, n_samples))
     return affinity.maximum(affinity.T).tocsr()

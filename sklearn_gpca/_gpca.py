@@ -40,6 +40,7 @@ from sklearn_gpca._extension import (
     reference_neighbors,
 )
 from sklearn_gpca._ksubspaces import k_subspaces, smoothed_assignment
+from sklearn_gpca._memory import check_gpca_memory
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._model_selection import coding_length_cost, select_n_clusters
 from sklearn_gpca._normals import POINT_NORMALS, point_normal_bases
@@ -521,6 +522,7 @@ def _gpca(X, n_clusters, p):
             "rank. Set affinity_power=1."
         )
     _check_complete(X)
+    check_gpca_memory(*X.shape, n_clusters, p)
     rows, owner = _distinct_lines(X)
     _check_rows(X, rows, owner, n_clusters)
     random_state = check_random_state(p["random_state"])

@@ -17,8 +17,9 @@ import numpy as np
 from scipy.linalg import eigh
 
 from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._memory import chunk_rows
 from sklearn_gpca._rows import canonical_sign, unit_rows
-from sklearn_gpca._veronese import polynomial_gradients, veronese_map
+from sklearn_gpca._veronese import n_monomials, polynomial_gradients, veronese_map
 
 
 def embedded_spectrum(points, degree):
@@ -40,7 +41,8 @@ def embedded_spectrum(points, degree):
         ``l``-th smallest residual ``||W~^T c||``.
     """
     gram = 0.0
-    for rows in row_chunks(points.shape[0]):
+    n_mono = n_monomials(points.shape[1], degree)
+    for rows in row_chunks(points.shape[0], chunk_rows(2 * 8 * n_mono)):
         embedded = veronese_map(points[rows], degree)
         gram = gram + embedded.T @ embedded
     values, vectors = eigh(gram)
@@ -167,7 +169,8 @@ def polynomial_normal_bases(points, coefs, degree, tol):
     n_samples, n_features = points.shape
     bases = np.zeros((n_samples, n_features, n_features))
     codims = np.ones(n_samples, dtype=np.intp)
-    for rows in row_chunks(n_samples):
+    per_row = 3 * 8 * coefs.shape[1] * n_features
+    for rows in row_chunks(n_samples, chunk_rows(per_row)):
         gradients = polynomial_gradients(points[rows], coefs, degree)
         _, values, vt = np.linalg.svd(gradients, full_matrices=False)
         keep = values > tol * values[:, :1]

@@ -18,6 +18,8 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, eigsh, lobpcg
 from sklearn.cluster import KMeans
 
+from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._memory import chunk_rows
 from sklearn_gpca._rows import TINY, unit_rows
 
 
@@ -37,6 +39,8 @@ def normal_subspace_features(normals):
         Upper-triangular entries of ``P_i = N_i N_i^T``, off-diagonal entries
         multiplied by ``sqrt(2)``, so that ``features @ features.T`` equals
         ``tr(P_i P_j)``; for unit normals that is ``cos^2`` of their angle.
+        Computed in chunks of points whose temporaries fit in scikit-learn's
+        ``working_memory``.
 
     Examples
     --------
@@ -51,10 +55,15 @@ def normal_subspace_features(normals):
     normals = np.asarray(normals, dtype=np.float64)
     if normals.ndim == 2:
         normals = normals[:, :, None]
-    rows, cols = np.triu_indices(normals.shape[1])
+    n_samples, n_features, n_columns = normals.shape
+    rows, cols = np.triu_indices(n_features)
     weights = np.where(rows == cols, 1.0, np.sqrt(2.0))
-    products = np.einsum("pdj,pdj->pd", normals[:, rows], normals[:, cols])
-    return products * weights
+    features = np.empty((n_samples, rows.size))
+    # both gathered factors of a chunk of points fit in working_memory
+    for chunk in row_chunks(n_samples, chunk_rows(2 * 8 * rows.size * n_columns)):
+        part = normals[chunk]
+        features[chunk] = np.einsum("pdj,pdj->pd", part[:, rows], part[:, cols])
+    return features * weights
 
 
 def lowrank_eigenvectors(features, n_components):
