@@ -36,6 +36,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _tables import write_markdown
 
 from sklearn_gpca import PowerFactorization
 from sklearn_gpca.datasets import load_hopkins155, make_tracks
@@ -220,8 +221,7 @@ def main():
             f"tracks (median) {hopkins['background']:.3f}.",
         ]
         print(lines[-1])
-    args.output.parent.mkdir(parents=True, exist_ok=True)
-    args.output.write_text("\n".join(lines) + "\n")
+    write_markdown(args.output, "\n".join(lines) + "\n")
 
 
 if __name__ == "__main__":

@@ -323,6 +323,9 @@ def test_refinement_and_paper_settings_agree_on_clean_hyperplanes(three_hyperpla
     assert paper.n_iter_ == 0 and default.n_iter_ > 0
     assert_same_segmentation(paper.labels_[clear], truth[clear])
     assert_same_segmentation(default.labels_[clear], paper.labels_[clear])
+    # and the same normals
+    overlap = np.abs(paper.normals_ @ default.normals_.T).max(axis=1)
+    assert_allclose(overlap, 1.0, atol=1e-4)
 
 
 def test_power_needs_graph():
