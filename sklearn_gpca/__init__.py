@@ -13,6 +13,7 @@ from sklearn_gpca._model_selection import (
     NClustersSearch,
     coding_length_cost,
     select_n_clusters,
+    sine_likelihood_cost,
 )
 from sklearn_gpca._motion import estimate_motions
 from sklearn_gpca._pipeline import paper_pipeline
@@ -37,4 +38,5 @@ __all__ = [
     "paper_pipeline",
     "select_n_clusters",
     "shape_interaction_matrix",
+    "sine_likelihood_cost",
 ]

@@ -42,7 +42,11 @@ from sklearn_gpca._extension import (
 from sklearn_gpca._ksubspaces import k_subspaces, smoothed_assignment
 from sklearn_gpca._memory import check_gpca_memory
 from sklearn_gpca._missing import describe_indices
-from sklearn_gpca._model_selection import coding_length_cost, select_n_clusters
+from sklearn_gpca._model_selection import (
+    CRITERIA,
+    criterion_function,
+    select_n_clusters,
+)
 from sklearn_gpca._normals import POINT_NORMALS, point_normal_bases
 from sklearn_gpca._polynomials import unit_gradients, vanishing_polynomials
 from sklearn_gpca._rows import canonical_sign, power_of_two_scale, unit_rows
@@ -603,12 +607,20 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Number of subspaces ``n``, which is also the degree of the fitted
         polynomial. ``"auto"`` (beyond the paper) fits every ``n`` from 1 to
         ``max_clusters`` and keeps the segmentation with the lowest
-        :func:`coding_length_cost` (:func:`select_n_clusters`); see
-        ``n_clusters_`` and ``n_clusters_costs_``.
+        ``criterion`` (:func:`select_n_clusters`); see ``n_clusters_`` and
+        ``n_clusters_costs_``.
     max_clusters : int, default=5
         Largest number of subspaces tried by ``n_clusters="auto"``; ignored
         otherwise. Values whose Veronese embedding needs more points than
         there are are skipped.
+    criterion : {"coding_length", "sine_likelihood"} or callable, \
+default="coding_length"
+        The model-selection criterion of ``n_clusters="auto"`` and ``score``:
+        ``criterion(points, labels) -> cost``, lower is better (see
+        :func:`select_n_clusters`). ``"coding_length"``:
+        :func:`coding_length_cost`; ``"sine_likelihood"``:
+        :func:`sine_likelihood_cost`, which can also compare the ranks of a
+        preceding projection on noise-free data.
     {parameters}
 
     Attributes
@@ -617,9 +629,9 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Number of subspaces fitted: ``n_clusters``, or the one chosen by
         ``n_clusters="auto"``.
     n_clusters_costs_ : ndarray of shape (max_clusters,)
-        With ``n_clusters="auto"`` only: the criterion (coding length in bits,
-        lower is better) of the segmentation into ``n = 1 .. max_clusters``
-        subspaces; ``inf`` where skipped for lack of points.
+        With ``n_clusters="auto"`` only: the ``criterion`` (lower is better;
+        bits for the coding length) of the segmentation into ``n = 1 ..
+        max_clusters`` subspaces; ``inf`` where skipped for lack of points.
     labels_ : ndarray of shape (n_samples,), dtype=intp
         Subspace label of each training point, in ``0 .. n_clusters_ - 1``;
         all-zero rows get 0.
@@ -804,6 +816,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             StrOptions({"auto"}),
         ],
         "max_clusters": [Count(1, None, closed="left")],
+        "criterion": [StrOptions(set(CRITERIA)), callable],
         **_PARAMETER_CONSTRAINTS,
     }
 
@@ -812,6 +825,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         n_clusters=2,
         *,
         max_clusters=5,
+        criterion="coding_length",
         normalize=True,
         point_normals="local",
         affinity="nearest_neighbors",
@@ -831,6 +845,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     ):
         self.n_clusters = n_clusters
         self.max_clusters = max_clusters
+        self.criterion = criterion
         self.normalize = normalize
         self.point_normals = point_normals
         self.affinity = affinity
@@ -862,7 +877,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
 
     def _gpca_params(self):
         params = self.get_params()
-        del params["n_clusters"], params["max_clusters"]
+        del params["n_clusters"], params["max_clusters"], params["criterion"]
         return params
 
     def _feasible_n_clusters(self, X):
@@ -889,7 +904,9 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             result = _gpca(X, n, params)
             return X, result.labels, result
 
-        best, costs, results = select_n_clusters(segment, feasible)
+        best, costs, results = select_n_clusters(
+            segment, feasible, criterion=self.criterion
+        )
         all_costs = np.full(self.max_clusters, np.inf)
         all_costs[: len(feasible)] = costs
         return results[best], all_costs
@@ -980,17 +997,17 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         return labels
 
     def score(self, X, y=None):
-        """Minus the coding length per point of `X` segmented by ``predict``.
+        """Minus the ``criterion`` per point of `X` segmented by ``predict``.
 
-        Higher is better. The criterion of ``n_clusters="auto"`` and of
-        :func:`select_n_clusters`, :func:`coding_length_cost`, divided by the
-        number of points: the bits needed to code the unit points of `X` up to
-        a distortion of 0.03 when each group that ``predict`` forms is coded
-        by its own Gaussian, plus the group memberships. Too few subspaces
-        merge groups into a costlier one; too many split a group and pay for
-        the memberships: on a union of ``n`` subspaces the score peaks at
-        ``n_clusters = n``, so ``GridSearchCV`` over ``n_clusters`` chooses
-        by the same criterion as ``n_clusters="auto"``.
+        Higher is better. The criterion of ``n_clusters="auto"``, divided by
+        the number of points; by default :func:`coding_length_cost`, the bits
+        needed to code the unit points of `X` up to a distortion of 0.03 when
+        each group that ``predict`` forms is coded by its own Gaussian, plus
+        the group memberships. Too few subspaces merge groups into a costlier
+        one; too many split a group and pay for the memberships: on a union
+        of ``n`` subspaces the score peaks at ``n_clusters = n``, and
+        ``GridSearchCV`` over ``n_clusters`` chooses by the same criterion as
+        ``n_clusters="auto"``.
 
         Parameters
         ----------
@@ -1002,8 +1019,9 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Returns
         -------
         score : float
-            Minus the coding length in bits per point.
+            Minus the criterion per point (bits per point by default).
         """
         check_is_fitted(self)
         X = self._validate_X(X, reset=False)
-        return -coding_length_cost(X, self.predict(X)) / X.shape[0]
+        cost = criterion_function(self.criterion)(X, self.predict(X))
+        return -cost / X.shape[0]

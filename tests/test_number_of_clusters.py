@@ -17,6 +17,7 @@ from sklearn_gpca import (
     coding_length_cost,
     gpca,
     select_n_clusters,
+    sine_likelihood_cost,
 )
 from sklearn_gpca._coding_length import coding_length
 from sklearn_gpca.datasets import make_motions
@@ -196,3 +197,26 @@ def test_score_is_minus_the_criterion_per_point():
     model = GPCAClustering(2, random_state=0).fit(Z)
     expected = -coding_length_cost(Z, model.predict(Z)) / Z.shape[0]
     assert model.score(Z) == pytest.approx(expected)
+
+
+def test_the_criterion_is_a_parameter_of_auto_and_score():
+    Z, _ = _projected_motions(2)
+    auto = GPCAClustering("auto", criterion="sine_likelihood", random_state=0).fit(Z)
+    fixed = GPCAClustering(auto.n_clusters_, criterion="sine_likelihood").fit(Z)
+    assert auto.score(Z) == pytest.approx(
+        -sine_likelihood_cost(Z, auto.predict(Z)) / Z.shape[0]
+    )
+    assert np.argmin(auto.n_clusters_costs_) + 1 == auto.n_clusters_
+    assert fixed.score(Z) == pytest.approx(
+        -sine_likelihood_cost(Z, fixed.predict(Z)) / Z.shape[0]
+    )
+
+
+def test_sine_likelihood_prefers_exact_hyperplanes_at_their_number():
+    rng = np.random.RandomState(0)
+    bases = [np.linalg.qr(rng.randn(5, 4))[0] for _ in range(3)]
+    X = np.vstack([rng.randn(60, 4) @ B.T for B in bases])
+    y = np.repeat([0, 1, 2], 60)
+    true = sine_likelihood_cost(X, y)
+    assert true < sine_likelihood_cost(X, np.minimum(y, 1))  # two merged
+    assert true < sine_likelihood_cost(X, np.where(np.arange(180) % 2, y, y + 3))
