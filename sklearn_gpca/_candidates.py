@@ -52,6 +52,23 @@ def candidate_graphs(
     selection_graph : scipy.sparse.csr_matrix or None
         ``G``, on which :func:`~sklearn_gpca._selection.select_candidate`
         compares the candidates; None when ``multi`` is False.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.stages import (
+    ...     unit_rows, sign_invariant_neighbors, point_normal_bases, candidate_graphs)
+    >>> rng = np.random.RandomState(0)
+    >>> # two planes of R^3: z = 0 and x = 0
+    >>> unit = unit_rows(np.vstack([rng.randn(20, 3) * [1, 1, 0],
+    ...                             rng.randn(20, 3) * [0, 1, 1]]))
+    >>> neighbors = sign_invariant_neighbors(unit, 9)
+    >>> normals = point_normal_bases(
+    ...     "local", unit, points=unit, polynomials=None, degree=2,
+    ...     neighbors=neighbors[:, :3], tol=0.05)
+    >>> graphs, selection_graph = candidate_graphs(normals, neighbors, 4, multi=False)
+    >>> len(graphs), graphs[0].shape, selection_graph
+    (1, (40, 40), None)
     """
     graph = normal_affinity_graph(*normals, neighbors, power)
     if not multi:
@@ -94,6 +111,27 @@ def spectral_candidates(graphs, n_clusters, *, over_segment, n_init, random_stat
     candidates : list of ndarray of shape (n_samples,), dtype=intp
         One labelling per graph, or two (plain, then over-segmented and
         merged) with ``over_segment``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.stages import (
+    ...     unit_rows, sign_invariant_neighbors, point_normal_bases,
+    ...     candidate_graphs, spectral_candidates)
+    >>> rng = np.random.RandomState(0)
+    >>> # two planes of R^3: z = 0 and x = 0
+    >>> unit = unit_rows(np.vstack([rng.randn(20, 3) * [1, 1, 0],
+    ...                             rng.randn(20, 3) * [0, 1, 1]]))
+    >>> neighbors = sign_invariant_neighbors(unit, 9)
+    >>> normals = point_normal_bases(
+    ...     "local", unit, points=unit, polynomials=None, degree=2,
+    ...     neighbors=neighbors[:, :3], tol=0.05)
+    >>> graphs, _ = candidate_graphs(normals, neighbors, 4, multi=False)
+    >>> candidates = spectral_candidates(
+    ...     graphs, 2, over_segment=False, n_init=10,
+    ...     random_state=np.random.RandomState(0))
+    >>> len(candidates), candidates[0].shape
+    (1, (40,))
     """
     kmeans = dict(n_init=n_init, random_state=random_state)
     candidates = []

@@ -44,6 +44,21 @@ def extension_neighbors(unit, sample, sample_neighbors, *, n_jobs=None):
     -------
     neighbors : ndarray of shape (n_samples, n_local), dtype=intp
         Indices into ``unit``, all of subsample points.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.stages import (
+    ...     unit_rows, sign_invariant_neighbors, extension_neighbors)
+    >>> rng = np.random.RandomState(0)
+    >>> # two planes of R^3: z = 0 and x = 0
+    >>> unit = unit_rows(np.vstack([rng.randn(20, 3) * [1, 1, 0],
+    ...                             rng.randn(20, 3) * [0, 1, 1]]))
+    >>> sample = np.arange(0, 40, 2)
+    >>> sample_neighbors = sign_invariant_neighbors(unit[sample], 3)
+    >>> neighbors = extension_neighbors(unit, sample, sample_neighbors)
+    >>> neighbors.shape, bool(np.isin(neighbors, sample).all())
+    ((40, 3), True)
     """
     n_points = unit.shape[0]
     others = _outside(n_points, sample)
@@ -111,6 +126,25 @@ def extend_labels(unit, sample, sample_labels, neighbors, bases, *, smoothing):
     -------
     labels : ndarray of shape (n_samples,), dtype=intp
         ``sample_labels`` on the subsample; the smoothed assignment elsewhere.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.stages import (
+    ...     unit_rows, sign_invariant_neighbors, extension_neighbors,
+    ...     extend_labels, fit_subspaces)
+    >>> rng = np.random.RandomState(0)
+    >>> # two planes of R^3: z = 0 and x = 0
+    >>> unit = unit_rows(np.vstack([rng.randn(20, 3) * [1, 1, 0],
+    ...                             rng.randn(20, 3) * [0, 1, 1]]))
+    >>> y = np.repeat([0, 1], 20)
+    >>> sample = np.arange(0, 40, 2)
+    >>> bases, _ = fit_subspaces(unit[sample], y[sample], 2, 2, 0.05)
+    >>> neighbors = extension_neighbors(
+    ...     unit, sample, sign_invariant_neighbors(unit[sample], 3))
+    >>> labels = extend_labels(unit, sample, y[sample], neighbors, bases, smoothing=5.0)
+    >>> bool((labels == y).all())
+    True
     """
     n_points = unit.shape[0]
     others = _outside(n_points, sample)

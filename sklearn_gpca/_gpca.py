@@ -635,7 +635,7 @@ default="coding_length"
     labels_ : ndarray of shape (n_samples,), dtype=intp
         Subspace label of each training point, in ``0 .. n_clusters_ - 1``;
         all-zero rows get 0.
-    normals_ : ndarray of shape (n_clusters_, n_features)
+    normals_ : ndarray of shape (n_clusters, n_features)
         Unit normal of each cluster, signed so that its largest-magnitude entry
         is positive. With ``refine=True`` the least singular direction of the
         cluster's (unit) points, i.e. the leading normal of a lower-dimensional

@@ -60,6 +60,23 @@ def point_normal_bases(method, unit, *, points, polynomials, degree, neighbors, 
         ``"one_polynomial"``, ``n_features`` otherwise.
     codims : ndarray of shape (n_samples,), dtype=intp
         The dimension of each normal subspace, ``>= 1``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.stages import (
+    ...     unit_rows, sign_invariant_neighbors, point_normal_bases)
+    >>> rng = np.random.RandomState(0)
+    >>> # two planes of R^3: z = 0 and x = 0
+    >>> unit = unit_rows(np.vstack([rng.randn(20, 3) * [1, 1, 0],
+    ...                             rng.randn(20, 3) * [0, 1, 1]]))
+    >>> neighbors = sign_invariant_neighbors(unit, 3)
+    >>> bases, codims = point_normal_bases(
+    ...     "local", unit, points=unit, polynomials=None, degree=2,
+    ...     neighbors=neighbors, tol=0.05)
+    >>> codims[[0, -1]], np.abs(bases[[0, -1], :, 0]).round(3)
+    (array([1, 1]), array([[0., 0., 1.],
+           [1., 0., 0.]]))
     """
     if method == "one_polynomial":
         normals = unit_gradients(points, polynomials[0], degree)

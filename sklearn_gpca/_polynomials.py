@@ -134,6 +134,20 @@ def unit_gradients(points, coef, degree):
     Returns
     -------
     normals : ndarray of shape (n_samples, n_features)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.stages import (
+    ...     unit_rows, vanishing_polynomials, unit_gradients)
+    >>> rng = np.random.RandomState(0)
+    >>> # two planes of R^3: z = 0 and x = 0
+    >>> unit = unit_rows(np.vstack([rng.randn(20, 3) * [1, 1, 0],
+    ...                             rng.randn(20, 3) * [0, 1, 1]]))
+    >>> coef = vanishing_polynomials(unit, 2)[0]  # the polynomial x z
+    >>> np.abs(unit_gradients(unit, coef, 2)[[0, -1]]).round(3)
+    array([[0., 0., 1.],
+           [1., 0., 0.]])
     """
     normals = np.empty_like(points)
     for rows in row_chunks(points.shape[0]):

@@ -152,6 +152,20 @@ def sine_residuals(points, bases):
     -------
     residuals : ndarray of shape (n_points, n_subspaces)
         In ``[0, 1]``; 1 for a basis with no column.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.stages import (
+    ...     unit_rows, fit_subspaces, sine_residuals)
+    >>> rng = np.random.RandomState(0)
+    >>> # two planes of R^3: z = 0 and x = 0
+    >>> unit = unit_rows(np.vstack([rng.randn(20, 3) * [1, 1, 0],
+    ...                             rng.randn(20, 3) * [0, 1, 1]]))
+    >>> bases, _ = fit_subspaces(unit, np.repeat([0, 1], 20), 2, 2, 0.05)
+    >>> sine_residuals(unit[[0, -1]], bases).round(3)
+    array([[0.   , 0.951],
+           [0.693, 0.   ]])
     """
     return np.column_stack(
         [np.maximum(1.0 - np.sum((points @ U) ** 2, axis=1), 0.0) for U in bases]
