@@ -127,34 +127,6 @@ def _check_degree(degree):
         raise ValueError(f"Derivatives need degree >= 1, got degree={degree}.")
 
 
-def veronese_jacobian(X, degree):
-    """Jacobian of the Veronese embedding at every row of ``X``.
-
-    Parameters
-    ----------
-    X : ndarray of shape (n_samples, n_features)
-        Points in ``R^K``.
-    degree : int
-        Degree ``n >= 1`` of the embedding.
-
-    Returns
-    -------
-    jacobian : ndarray of shape (n_samples, M_n, n_features)
-        ``jacobian[i, m, k] = d nu_n(x)_m / d x_k`` at ``x = X[i]``, that is
-        ``e_mk x^(e_m - u_k)``.
-    """
-    _check_degree(degree)
-    X = np.asarray(X)
-    n_samples, n_features = X.shape
-    mono, feature, lower, multiplicity = _derivative_terms(n_features, degree)
-    lower_embedded = veronese_map(X, degree - 1)
-    jacobian = np.zeros(
-        (n_samples, n_monomials(n_features, degree), n_features), dtype=X.dtype
-    )
-    jacobian[:, mono, feature] = multiplicity * lower_embedded[:, lower]
-    return jacobian
-
-
 def polynomial_gradients(X, coef, degree):
     """Gradients of homogeneous polynomials ``c^T nu_n(x)`` at every row of ``X``.
 
