@@ -237,8 +237,63 @@ def fit_observed_subspace(
         rows_b, _, _ = row_fits((Xw * sqrt_w).T, mw.T, weighted)
         q, _ = np.linalg.qr(rows_b)
         basis = np.zeros((n_features, dim))
-        basis[support] = q
+        basis[support, : q.shape[1]] = q
         if previous < np.inf and previous - total <= tol * previous:
             break
         previous = total
+    return basis, support
+
+
+def _residual_direction(X0, mask, basis, support):
+    """Leading eigenvector of the co-observed second moments of the residuals."""
+    coefs, _, _ = row_fits(X0[:, support], mask[:, support], basis[support])
+    residual = np.zeros_like(X0)
+    residual[:, support] = (X0[:, support] - coefs @ basis[support].T) * mask[
+        :, support
+    ]
+    moments, _ = comoment_matrix(residual, mask)
+    _, vectors = np.linalg.eigh(moments)
+    return vectors[:, -1]
+
+
+def fit_adaptive_subspace(X0, mask, noise, *, max_dim=8, min_dim=1, tol=2.0):
+    """Subspace of the smallest dimension that fits a group to the noise level.
+
+    Dimensions ``d = min_dim, min_dim + 1, ...`` are fitted in turn (each
+    alternating least squares started from the previous basis and the
+    leading direction of its residuals) until the residual per degree of
+    freedom, ``sum_p r_p / sum_p (k_p - d)``, is at most ``tol * noise``;
+    ``max_dim`` otherwise. A rigid motion seen by an affine camera needs at
+    most 4; a perspective camera bends the trajectories of a scene with
+    depth out of that subspace, and more dimensions absorb the bend.
+
+    Parameters
+    ----------
+    X0, mask : ndarray of shape (n_samples, n_features)
+        Rows of the group (zero where missing) and observed entries.
+    noise : float
+        Variance of the noise per coordinate (e.g.
+        :func:`local_noise_level`).
+    max_dim, min_dim : int
+        Range of dimensions.
+    tol : float, default=2.0
+        Accepted residual per degree of freedom, in units of ``noise``.
+
+    Returns
+    -------
+    basis : ndarray of shape (n_features, d)
+    support : ndarray of shape (n_features,), dtype=bool
+    """
+    basis = support = None
+    for dim in range(min_dim, max_dim + 1):
+        init = None
+        if basis is not None:
+            extra = _residual_direction(X0, mask, basis, support)
+            init = np.column_stack([basis, extra])
+        basis, support = fit_observed_subspace(
+            X0, mask, dim, init=init, max_iter=10 if init is not None else 30
+        )
+        residuals, dofs = subspace_residuals(X0, mask, [basis], [support])
+        if residuals.sum() <= tol * noise * max(dofs.sum(), 1):
+            break
     return basis, support
