@@ -31,6 +31,27 @@ from sklearn_gpca._observed_subspaces import (
 _TINY = np.finfo(np.float64).tiny
 
 
+# Up to this many tracks the spectral embedding uses a dense eigensolver
+# (faster than Lanczos for the many eigenvectors of an over-segmentation).
+_DENSE_EIGEN = 3000
+
+
+def _leading_eigenvectors(affinity, n_components, random_state):
+    """Leading eigenvectors of ``D^{-1/2} A D^{-1/2}``, dense when small."""
+    n_samples = affinity.shape[0]
+    if n_samples > _DENSE_EIGEN:
+        return leading_eigenvectors(affinity, n_components, random_state)
+    degrees = np.asarray(affinity.sum(axis=1)).ravel()
+    inv_sqrt = 1.0 / np.sqrt(np.maximum(degrees, _TINY))
+    normalized = (
+        affinity.multiply(inv_sqrt[:, None]).multiply(inv_sqrt[None, :])
+    ).toarray()
+    _, vectors = np.linalg.eigh(normalized)
+    vectors = vectors[:, ::-1][:, :n_components]
+    vectors[degrees <= 0] = 0.0
+    return vectors
+
+
 def over_segment(affinity, n_fragments, *, random_state):
     """Spectral clustering of ``affinity`` into ``n_fragments`` clusters.
 
@@ -38,7 +59,7 @@ def over_segment(affinity, n_fragments, *, random_state):
     """
     n_samples = affinity.shape[0]
     n_fragments = min(n_fragments, n_samples - 1)
-    vectors = leading_eigenvectors(affinity, n_fragments, random_state)
+    vectors = _leading_eigenvectors(affinity, n_fragments, random_state)
     norms = np.linalg.norm(vectors, axis=1, keepdims=True)
     embedding = vectors / np.maximum(norms, _TINY)
     kmeans = KMeans(n_fragments, n_init=3, random_state=random_state)

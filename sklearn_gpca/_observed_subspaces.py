@@ -284,6 +284,23 @@ def fit_adaptive_subspace(X0, mask, noise, *, max_dim=8, min_dim=1, tol=2.0):
     basis : ndarray of shape (n_features, d)
     support : ndarray of shape (n_features,), dtype=bool
     """
+    support = np.count_nonzero(mask, axis=0) >= min_dim
+    if support.any() and mask[:, support].all():
+        # complete on the support: one SVD gives every dimension's residual
+        _, values, vt = np.linalg.svd(X0[:, support], full_matrices=False)
+        energy = np.sum(values**2) - np.cumsum(values**2)
+        n_rows, n_cols = X0.shape[0], int(support.sum())
+        dims = np.arange(1, values.size + 1)
+        dofs = n_rows * np.maximum(n_cols - dims, 0)
+        fits = energy <= tol * noise * np.maximum(dofs, 1)
+        fits[: min_dim - 1] = False
+        candidates = np.flatnonzero(fits[:max_dim])
+        dim = int(dims[candidates[0]]) if candidates.size else min(max_dim, values.size)
+        dim = max(dim, min_dim)
+        basis = np.zeros((X0.shape[1], dim))
+        found = vt[:dim].T
+        basis[support, : found.shape[1]] = found
+        return basis, support
     basis = support = None
     for dim in range(min_dim, max_dim + 1):
         init = None

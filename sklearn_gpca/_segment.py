@@ -295,7 +295,7 @@ def segment_motions(
             random_state=random_state,
         )
         refined.append(labels)
-    lengths = np.array([coding_length(X0, labels, noise) for labels in refined])
+    lengths = np.array([coding_length(X0, labels, noise, mask) for labels in refined])
     chosen = int(np.argmin(lengths))
     labels = refined[chosen]
     if return_info:

@@ -4,8 +4,10 @@
 
 import numpy as np
 
+from sklearn_gpca._observed_subspaces import comoment_matrix
 
-def coding_length(X0, labels, noise):
+
+def coding_length(X0, labels, noise, mask=None):
     """Bits to code the tracks, segmented by ``labels``, up to the noise.
 
     The lossy coding length of Ma, Derksen, Hong & Wright (PAMI 2007) of the
@@ -31,6 +33,8 @@ def coding_length(X0, labels, noise):
         Non-negative group of each track.
     noise : float
         Noise variance per coordinate, ``> 0``.
+    mask : ndarray of shape (n_samples, n_features), dtype=bool, default=None
+        Observed entries; None when nothing is missing.
 
     Returns
     -------
@@ -41,7 +45,11 @@ def coding_length(X0, labels, noise):
     for group in np.unique(labels):
         members = X0[labels == group]
         size = members.shape[0]
-        eigvals = np.maximum(np.linalg.eigvalsh(members.T @ members), 0.0)
+        if mask is None or mask[labels == group].all():
+            scatter = members.T @ members
+        else:
+            scatter = size * comoment_matrix(members, mask[labels == group])[0]
+        eigvals = np.maximum(np.linalg.eigvalsh(scatter), 0.0)
         bits += (
             (size + X0.shape[1]) / 2 * np.sum(np.log2(1.0 + eigvals / (noise * size)))
         )
