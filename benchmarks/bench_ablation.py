@@ -20,6 +20,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _tables import write_markdown
 from joblib import Parallel, delayed
 from sklearn.pipeline import make_pipeline
 from threadpoolctl import threadpool_limits
@@ -207,7 +208,7 @@ def main():
         NOTES,
     ]
     if args.only is None:
-        Path(args.output).write_text("\n".join(lines))
+        write_markdown(args.output, "\n".join(lines))
         print(f"wrote {args.output}")
 
 

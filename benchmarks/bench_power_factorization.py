@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from _tables import write_markdown
 
 from sklearn_gpca import PowerFactorization
 
@@ -73,8 +74,7 @@ def main():
             "",
         ]
     )
-    args.output.parent.mkdir(parents=True, exist_ok=True)
-    args.output.write_text(table)
+    write_markdown(args.output, table)
     print(f"written to {args.output}")
 
 

@@ -28,9 +28,9 @@ import argparse
 import json
 import subprocess
 import sys
-from pathlib import Path
 
 import numpy as np
+from _tables import write_markdown
 
 SIZES = [1_000, 3_000, 10_000, 30_000, 100_000, 300_000, 1_000_000]
 # every time is the median of this many fits in one subprocess
@@ -202,7 +202,7 @@ def write(rows, out):
             "K-subspaces on all points). Peak memory grows linearly with the "
             "data.",
         ]
-    Path(out).write_text("\n".join(lines) + "\n")
+    write_markdown(out, "\n".join(lines) + "\n")
     print("\n".join(lines))
 
 

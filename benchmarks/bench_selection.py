@@ -28,6 +28,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _tables import write_markdown
 from joblib import Parallel, delayed
 from sklearn.utils import check_random_state
 from threadpoolctl import threadpool_limits
@@ -138,7 +139,7 @@ def main():
     ]
     text = "\n".join(lines)
     print(text)
-    Path(args.output).write_text(text)
+    write_markdown(args.output, text)
 
 
 if __name__ == "__main__":

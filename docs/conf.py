@@ -1,24 +1,29 @@
 """Sphinx configuration of the sklearn_gpca documentation.
 
-Build offline, warnings as errors::
+Builds offline, warnings as errors::
 
     sphinx-build -W --keep-going -b html docs docs/_build/html
 
-Set ``SKLEARN_GPCA_INTERSPHINX=1`` to link to the scikit-learn, NumPy, SciPy
-and matplotlib documentation (needs the network).
+Nothing is fetched: MathJax comes from the ``sphinx-mathjax-offline`` package
+(copied into ``_static/mathjax``), and links to scikit-learn, NumPy and SciPy
+come from inventories written here from the installed packages (see
+:func:`write_inventories`). The figures of "How the results compare" are drawn
+from ``benchmarks/results/`` by ``docs/make_result_figures.py`` at each build.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
 
-import os
-import re
+import sys
 import warnings
 from pathlib import Path
 
 import sklearn_gpca
 
 DOCS = Path(__file__).parent
-ROOT = DOCS.parent
+sys.path.insert(0, str(DOCS))
+
+from inherited_docstrings import clean_sklearn_docstrings
+from offline_inventories import write_inventories
 
 project = "sklearn_gpca"
 author = "sklearn_gpca developers"
@@ -28,23 +33,17 @@ version = release = sklearn_gpca.__version__
 extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
+    "sphinx.ext.intersphinx",
     "sphinx.ext.mathjax",
+    # MathJax 3 served from _static/mathjax: equations render offline
+    "sphinx-mathjax-offline",
     "sphinx.ext.viewcode",
     "numpydoc",
     "sphinx_gallery.gen_gallery",
 ]
-if os.environ.get("SKLEARN_GPCA_INTERSPHINX") == "1":
-    extensions.append("sphinx.ext.intersphinx")
-    intersphinx_mapping = {
-        "python": ("https://docs.python.org/3", None),
-        "numpy": ("https://numpy.org/doc/stable", None),
-        "scipy": ("https://docs.scipy.org/doc/scipy", None),
-        "sklearn": ("https://scikit-learn.org/stable", None),
-        "matplotlib": ("https://matplotlib.org/stable", None),
-    }
 
 templates_path = ["_templates"]
-exclude_patterns = ["_build", "examples", "**.ipynb_checkpoints", "user_guide/_*.rst"]
+exclude_patterns = ["_build", "examples", "**.ipynb_checkpoints"]
 default_role = "literal"
 
 autosummary_generate = True
@@ -55,10 +54,16 @@ numpydoc_class_members_toctree = False
 
 html_theme = "pydata_sphinx_theme"
 html_static_path = ["_static"]
+html_css_files = ["custom.css"]
 html_title = f"sklearn_gpca {release}"
 html_theme_options = {
     "navigation_with_keys": False,
     "show_toc_level": 2,
+    # the results page lists its sections itself and needs the width
+    "secondary_sidebar_items": {
+        "**": ["page-toc"],
+        "user_guide/benchmarks": [],
+    },
 }
 html_show_sourcelink = False
 
@@ -68,7 +73,8 @@ sphinx_gallery_conf = {
     "filename_pattern": r"/plot_",
     "download_all_examples": False,
     "remove_config_comments": True,
-    "within_subsection_order": "FileNameSortKey",
+    # the introductory pipeline first (docs/gallery_order.py)
+    "within_subsection_order": "gallery_order.ExampleOrder",
     "doc_module": ("sklearn_gpca",),
     "backreferences_dir": "gen_modules/backreferences",
     "reference_url": {"sklearn_gpca": None},
@@ -76,6 +82,8 @@ sphinx_gallery_conf = {
     "abort_on_example_error": True,
     "show_memory": False,
     "image_scrapers": ("matplotlib",),
+    # the execution-times page loads its table script from a CDN
+    "write_computation_times": False,
 }
 
 # Examples may warn (e.g. a baseline's ConvergenceWarning); that is their
@@ -89,55 +97,19 @@ rst_epilog = """
 .. _n_features_in: https://scikit-learn.org/stable/glossary.html#term-n_features_in_
 """
 
-_REF = re.compile(r":ref:`([^`<]*?)\s*(?:<[^>]*>)?`")
+# Links to scikit-learn, NumPy and SciPy without the network: inventories
+# written from the installed packages (docs/offline_inventories.py).
+intersphinx_mapping = write_inventories(DOCS / "_build" / "inventories")
 
 
-def strip_sklearn_refs(app, what, name, obj, options, lines):
-    """Inherited scikit-learn docstrings link to labels of scikit-learn's docs.
+def draw_result_figures(app):
+    """The figures of the benchmark page, from the committed results."""
+    import make_result_figures
 
-    Offline those labels do not exist; keep their text.
-    """
-    module = getattr(obj, "__module__", "") or ""
-    if module.startswith("sklearn."):
-        lines[:] = [_REF.sub(lambda m: m.group(1) or "", line) for line in lines]
+    make_result_figures.main(DOCS / "user_guide" / "_figures")
 
 
 def setup(app):
-    app.connect("autodoc-process-docstring", strip_sklearn_refs)
-
-
-def write_benchmark_tables():
-    """Include every ``benchmarks/results/*.md`` verbatim, so the docs stay in sync."""
-    titles = {
-        "hopkins155.md": "Hopkins155, complete data",
-        "hopkins155_missing.md": "Hopkins155 with occlusions",
-        "ablation.md": "Ablation of GPCAClustering's components",
-        "power_factorization.md": "PowerFactorization against the SVD",
-    }
-    results = ROOT / "benchmarks" / "results"
-    files = sorted(
-        results.glob("*.md"),
-        key=lambda p: (list(titles).index(p.name) if p.name in titles else 99, p),
-    )
-    lines = []
-    for path in files:
-        title = titles.get(path.name, path.stem.replace("_", " "))
-        lines += [
-            title,
-            "-" * len(title),
-            "",
-            f"From ``benchmarks/results/{path.name}``:",
-            "",
-            f".. literalinclude:: ../../benchmarks/results/{path.name}",
-            "   :language: none",
-            "",
-        ]
-    if not files:
-        lines.append("No benchmark results were found in ``benchmarks/results``.")
-    target = DOCS / "user_guide" / "_benchmark_tables.rst"
-    text = "\n".join(lines) + "\n"
-    if not target.exists() or target.read_text() != text:
-        target.write_text(text)
-
-
-write_benchmark_tables()
+    # before numpydoc (priority 500) parses the sections
+    app.connect("autodoc-process-docstring", clean_sklearn_docstrings, priority=400)
+    app.connect("builder-inited", draw_result_figures)

@@ -1,17 +1,24 @@
-"""Command line: ``python -m sklearn_gpca {demo,segment,benchmark}``.
+"""Command line: ``python -m sklearn_gpca`` (or ``sklearn-gpca``)
+``{demo,segment}``.
 
 ``demo`` segments synthetic trajectories; ``segment`` reads trajectories from a
 ``.npz``, ``.csv`` or Hopkins155-style ``.mat`` file, segments them and writes
-the labels; ``benchmark hopkins155`` runs the Hopkins155 benchmark of
-``benchmarks/bench_hopkins155.py`` with a progress display. Mistakes in the
-input (missing file, unknown format, wrong shape) end with a one-line message
-on stderr and exit status 2.
+the labels. The Hopkins155 benchmark is ``benchmarks/bench_hopkins155.py``,
+outside the package.
+
+Exit status: 0 on success; 2, with a one-line message on stderr, for a mistake
+in the user's input (a bad file or argument, a value the library's checks
+reject); 130, with one line, on Ctrl-C. Any other exception is a bug of the
+library: it is not disguised as a usage error but ends with its traceback
+(status 1). Warnings of the library (``UserWarning`` and its subclasses, such
+as ``ConvergenceWarning``) are shown on stderr, one line each.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
 
 import argparse
-import csv
+import contextlib
+import linecache
 import sys
 import time
 import warnings
@@ -19,23 +26,94 @@ from pathlib import Path
 
 import numpy as np
 
+from sklearn_gpca._trajectory_files import (
+    CSV_RULES,
+    UsageError,
+    read_trajectories,
+    same_file,
+    write_atomically,
+)
+
+__all__ = ["UsageError", "build_parser", "main", "read_trajectories"]
+
 #: Largest number of motions tried by ``--n-motions auto``.
 AUTO_MAX_MOTIONS = 5
 
-#: Least number of frames for a trajectory file.
-MIN_FRAMES = 3
-
-FORMATS = (".npz", ".csv", ".mat")
+#: Exit status after Ctrl-C (128 + SIGINT), as shells report it.
+INTERRUPTED = 130
 
 
-class UsageError(Exception):
-    """A mistake in the user's input: reported on one line, exit status 2."""
+def _prog():
+    """``sklearn-gpca`` when run as the installed script, else ``python -m``."""
+    if Path(sys.argv[0]).name.startswith("sklearn-gpca"):
+        return "sklearn-gpca"
+    return "python -m sklearn_gpca"
 
 
 def _print_rows(rows):
     width = max(len(name) for name, _ in rows)
     for name, value in rows:
         print(f"  {name:<{width}}  {value}")
+
+
+# ---------------------------------------------------------------------------
+# Errors and warnings of the library
+
+
+def _raised_by_a_check(exc):
+    """Whether ``exc`` comes from a ``raise`` statement of this library or of
+    scikit-learn, i.e. a check of the input, rather than from numpy or scipy
+    failing inside a computation (a bug)."""
+    tb = exc.__traceback__
+    if tb is None:
+        return False
+    while tb.tb_next is not None:
+        tb = tb.tb_next
+    module = tb.tb_frame.f_globals.get("__name__", "")
+    if module.split(".")[0] not in ("sklearn_gpca", "sklearn"):
+        return False
+    line = linecache.getline(tb.tb_frame.f_code.co_filename, tb.tb_lineno)
+    return line.lstrip().startswith("raise")
+
+
+@contextlib.contextmanager
+def _input_errors(prefix=""):
+    """Turn the ``ValueError`` of a check of the input into a UsageError."""
+    try:
+        yield
+    except UsageError:
+        raise
+    except ValueError as exc:
+        if not _raised_by_a_check(exc):
+            raise
+        message = " ".join(str(exc).split())  # one line
+        raise UsageError(f"{prefix}{message}") from exc
+
+
+@contextlib.contextmanager
+def _shown_warnings(prog):
+    """Show each distinct ``UserWarning`` (and subclass) on one stderr line."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            yield
+        finally:
+            seen = set()
+            for w in caught:
+                if not issubclass(w.category, UserWarning):
+                    continue
+                message = " ".join(str(w.message).split())
+                if (w.category, message) in seen:
+                    continue
+                seen.add((w.category, message))
+                print(
+                    f"{prog}: warning: {message} ({w.category.__name__})",
+                    file=sys.stderr,
+                )
+
+
+# ---------------------------------------------------------------------------
+# demo
 
 
 def _demo(args):
@@ -45,22 +123,23 @@ def _demo(args):
     from sklearn_gpca.datasets import make_motions
     from sklearn_gpca.metrics import misclassification_rate
 
-    X, y = make_motions(
-        n_motions=args.n_motions,
-        n_points=[args.n_points] * args.n_motions,
-        n_frames=args.n_frames,
-        noise=args.noise,
-        missing=args.missing,
-        missing_pattern=args.missing_pattern,
-        random_state=args.random_state,
-    )
-    pipeline = make_pipeline(
-        PowerFactorization(random_state=args.random_state),
-        GPCAClustering(args.n_motions, random_state=args.random_state),
-    )
-    start = time.perf_counter()
-    labels = pipeline.fit_predict(X)
-    seconds = time.perf_counter() - start
+    with _input_errors():
+        X, y = make_motions(
+            n_motions=args.n_motions,
+            n_points=[args.n_points] * args.n_motions,
+            n_frames=args.n_frames,
+            noise=args.noise,
+            missing=args.missing,
+            missing_pattern=args.missing_pattern,
+            random_state=args.random_state,
+        )
+        pipeline = make_pipeline(
+            PowerFactorization(random_state=args.random_state),
+            GPCAClustering(args.n_motions, random_state=args.random_state),
+        )
+        start = time.perf_counter()
+        labels = pipeline.fit_predict(X)
+        seconds = time.perf_counter() - start
     error = misclassification_rate(y, labels)
     print(
         "Segmenting synthetic rigid motions under an affine camera\n"
@@ -85,178 +164,7 @@ def _demo(args):
 
 
 # ---------------------------------------------------------------------------
-# Reading trajectory files
-
-
-def _read_npz(path):
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            if "X" not in data:
-                raise UsageError(
-                    f"{path}: no array 'X' in the .npz file (found "
-                    f"{', '.join(sorted(data.files)) or 'nothing'})"
-                )
-            X = data["X"]
-            y = data.get("y", None)
-    except (OSError, ValueError) as exc:
-        raise UsageError(f"{path}: cannot read as .npz ({exc})") from exc
-    return X, y
-
-
-def _is_number(cell):
-    cell = cell.strip()
-    if not cell:
-        return True
-    try:
-        float(cell)
-    except ValueError:
-        return False
-    return True
-
-
-def _read_csv(path):
-    """One trajectory per row; empty cells or NaN are missing.
-
-    An optional header row (any non-numeric cell) names the columns; a column
-    named ``y`` or ``label`` then holds the ground truth.
-    """
-    try:
-        with open(path, newline="") as f:
-            rows = [row for row in csv.reader(f) if any(c.strip() for c in row)]
-    except (OSError, UnicodeDecodeError) as exc:
-        raise UsageError(f"{path}: cannot read as .csv ({exc})") from exc
-    if not rows:
-        raise UsageError(f"{path}: the file holds no trajectories")
-    header = None
-    if not all(_is_number(cell) for cell in rows[0]):
-        header, rows = [c.strip() for c in rows[0]], rows[1:]
-    widths = {len(row) for row in rows}
-    if len(widths) > 1:
-        raise UsageError(
-            f"{path}: rows have different numbers of cells ({sorted(widths)})"
-        )
-    values = []
-    for i, row in enumerate(rows, start=2 if header else 1):
-        try:
-            values.append([float(c) if c.strip() else np.nan for c in row])
-        except ValueError as exc:
-            raise UsageError(f"{path}, line {i}: {exc}") from exc
-    X = np.array(values, dtype=np.float64).reshape(len(rows), -1)
-    y = None
-    if header is not None:
-        names = [h.lower() for h in header]
-        label = next((names.index(n) for n in ("y", "label") if n in names), None)
-        if label is not None:
-            y = X[:, label]
-            if np.isnan(y).any():
-                raise UsageError(f"{path}: column {header[label]!r} has empty cells")
-            X = np.delete(X, label, axis=1)
-    return X, y
-
-
-def _read_mat(path):
-    """Hopkins155 layout: ``x`` (else ``y``) of shape (3, P, F); ``s`` optional."""
-    import scipy.io
-
-    try:
-        data = scipy.io.loadmat(path)
-    except Exception as exc:  # scipy raises several types on bad files
-        raise UsageError(f"{path}: cannot read as .mat ({exc})") from exc
-    key = "x" if "x" in data else "y" if "y" in data else None
-    if key is None:
-        found = sorted(k for k in data if not k.startswith("__"))
-        raise UsageError(
-            f"{path}: no field 'x' or 'y' (3 x points x frames) in the .mat file "
-            f"(found {', '.join(found) or 'nothing'})"
-        )
-    points = np.asarray(data[key], dtype=np.float64)
-    if points.ndim != 3 or points.shape[0] not in (2, 3):
-        raise UsageError(
-            f"{path}: field {key!r} must have shape (3, points, frames), got "
-            f"{points.shape}"
-        )
-    _, n_points, n_frames = points.shape
-    X = points[:2].transpose(1, 2, 0).reshape(n_points, 2 * n_frames)
-    y = None
-    if "s" in data:
-        y = np.asarray(data["s"]).ravel()
-        if y.shape[0] != n_points:
-            raise UsageError(
-                f"{path}: field 's' holds {y.shape[0]} labels for {n_points} points"
-            )
-    return X, y
-
-
-def read_trajectories(path):
-    """Read ``X`` of shape (n_points, 2 * n_frames) and optional labels ``y``.
-
-    Raises
-    ------
-    UsageError
-        For a missing file, an unknown format or a wrong shape.
-    """
-    path = Path(path)
-    if not path.exists():
-        raise UsageError(f"{path}: no such file")
-    if path.is_dir():
-        raise UsageError(f"{path}: is a directory, not a trajectory file")
-    suffix = path.suffix.lower()
-    readers = {".npz": _read_npz, ".csv": _read_csv, ".mat": _read_mat}
-    if suffix not in readers:
-        raise UsageError(
-            f"{path}: unknown format {suffix or '(no extension)'!r}; "
-            f"expected one of {', '.join(FORMATS)}"
-        )
-    X, y = readers[suffix](path)
-    X = np.asarray(X)
-    if X.dtype.kind not in "biuf":
-        raise UsageError(f"{path}: X must be numeric, got dtype {X.dtype}")
-    X = X.astype(np.float64)
-    if X.ndim != 2:
-        raise UsageError(
-            f"{path}: X must be 2-D (points x 2 * frames), got shape {X.shape}"
-        )
-    n_points, n_columns = X.shape
-    if n_columns % 2:
-        raise UsageError(
-            f"{path}: X has an odd number of columns ({n_columns}); rows must be "
-            "[x_1, y_1, ..., x_F, y_F]"
-        )
-    if n_columns // 2 < MIN_FRAMES:
-        raise UsageError(
-            f"{path}: {n_columns // 2} frames; at least {MIN_FRAMES} are needed"
-        )
-    if n_points < 2:
-        raise UsageError(f"{path}: {n_points} trajectories; at least 2 are needed")
-    if np.isinf(X).any():
-        raise UsageError(f"{path}: X holds infinite values")
-    if y is not None:
-        y = np.asarray(y).ravel()
-        if y.shape[0] != n_points:
-            raise UsageError(
-                f"{path}: y holds {y.shape[0]} labels for {n_points} points"
-            )
-    return X, y
-
-
-# ---------------------------------------------------------------------------
 # segment
-
-
-def _n_motions(value):
-    return value if value == "auto" else _positive_int(value)
-
-
-def _positive_int(value):
-    try:
-        n = int(value)
-    except ValueError:
-        raise argparse.ArgumentTypeError(
-            f"must be a positive integer, got {value!r}"
-        ) from None
-    if n < 1:
-        raise argparse.ArgumentTypeError(f"must be at least 1, got {n}")
-    return n
 
 
 def _pipeline(n_motions, rank, random_state):
@@ -279,6 +187,27 @@ def _fit(X, n_motions, rank, random_state):
     return pipeline, pipeline.fit_predict(X)
 
 
+def _check_destination(path, option, source, force):
+    """Refuse to write over the input, or over a file without ``--force``."""
+    path = Path(path)
+    if same_file(path, source):
+        raise UsageError(f"{option} {path} is the input file; it is never overwritten")
+    if path.is_dir():
+        raise UsageError(f"{option} {path} is a directory")
+    if not path.parent.is_dir():
+        raise UsageError(f"{option} {path}: no such directory {path.parent}")
+    if path.exists() and not force:
+        raise UsageError(f"{option} {path} exists; add --force to overwrite it")
+
+
+def _sizes(labels, n_motions):
+    """``"26 35 19 0"``: the size of every motion, empty ones included."""
+    inliers = labels[labels >= 0]
+    text = " ".join(str(c) for c in np.bincount(inliers, minlength=n_motions))
+    n_noise = int(np.sum(labels < 0))
+    return text + (f" (+ {n_noise} outliers, label -1)" if n_noise else "")
+
+
 def _segment(args):
     from sklearn_gpca.metrics import misclassification_rate
 
@@ -288,19 +217,22 @@ def _segment(args):
         raise UsageError(
             f"--rank {args.rank} exceeds 2 * frames = {X.shape[1]} for {args.file}"
         )
+    destinations = [("--output", args.output), ("--plot", args.plot)]
+    destinations = [(option, path) for option, path in destinations if path]
+    for option, path in destinations:
+        _check_destination(path, option, args.file, args.force)
+    if args.output and args.plot and Path(args.output) == Path(args.plot):
+        raise UsageError("--output and --plot name the same file")
+
     start = time.perf_counter()
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            pipeline, labels = _fit(X, args.n_motions, args.rank, args.seed)
-    except ValueError as exc:
-        raise UsageError(f"{args.file}: {exc}") from exc
+    with _shown_warnings(args.prog), _input_errors(f"{args.file}: "):
+        pipeline, labels = _fit(X, args.n_motions, args.rank, args.seed)
     seconds = time.perf_counter() - start
     n_motions = pipeline[-1].n_clusters_
 
     if args.output is not None:
         try:
-            np.savetxt(args.output, labels, fmt="%d")
+            write_atomically(args.output, lambda tmp: np.savetxt(tmp, labels, fmt="%d"))
         except OSError as exc:
             raise UsageError(f"cannot write {args.output}: {exc}") from exc
     if args.plot is not None:
@@ -323,7 +255,7 @@ def _segment(args):
         ("frames", f"{n_frames}"),
         ("missing entries", f"{100 * np.isnan(X).mean():.1f} %"),
         ("motions", motions),
-        ("sizes", " ".join(str(c) for c in np.bincount(labels, minlength=n_motions))),
+        ("sizes", _sizes(labels, n_motions)),
     ]
     if y is not None:
         error = misclassification_rate(y, labels)
@@ -352,7 +284,9 @@ def _plot_segmentation(X, labels, y, path):
 
     display = TrajectoryDisplay.from_predictions(X, labels, y_true=y)
     try:
-        display.figure_.savefig(path, dpi=120, bbox_inches="tight")
+        write_atomically(
+            path, lambda tmp: display.figure_.savefig(tmp, dpi=120, bbox_inches="tight")
+        )
     except (OSError, ValueError) as exc:
         raise UsageError(f"cannot write {path}: {exc}") from exc
     finally:
@@ -360,72 +294,79 @@ def _plot_segmentation(X, labels, y, path):
 
 
 # ---------------------------------------------------------------------------
-# benchmark
+# Arguments
 
 
-class _Progress:
-    """``[####......]  40/930 fits  4 %  12 s`` on stderr, redrawn in place."""
+class _Parser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors take one line (and exit status 2)."""
 
-    def __init__(self, stream=None, width=30):
-        self.stream = sys.stderr if stream is None else stream
-        self.width = width
-        self.start = None
-
-    def __call__(self, done, total):
-        if self.start is None:
-            self.start = time.perf_counter()
-        elapsed = time.perf_counter() - self.start
-        filled = self.width * done // max(total, 1)
-        bar = "#" * filled + "." * (self.width - filled)
-        line = f"\r  [{bar}] {done:>{len(str(total))}}/{total} fits {elapsed:4.0f} s"
-        if done < total and done:
-            line += f", about {elapsed * (total - done) / done:.0f} s left  "
-        else:
-            line += " " * 20
-        print(line, end="", file=self.stream, flush=True)
-        if done == total:
-            print(file=self.stream)
-            self.start = None
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
 
 
-def _benchmark(args):
-    from sklearn_gpca._benchmark import run_hopkins155
+def _int_at_least(least):
+    def parse(value):
+        try:
+            n = int(value)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"must be an integer, got {value!r}"
+            ) from None
+        if n < least:
+            raise argparse.ArgumentTypeError(f"must be at least {least}, got {n}")
+        return n
 
-    if args.data_home is not None and not Path(args.data_home).is_dir():
-        raise UsageError(f"{args.data_home}: no such directory")
-    command = " ".join(["python -m sklearn_gpca benchmark hopkins155", *args.argv])
-    try:
-        run_hopkins155(
-            args.data_home,
-            args.output_dir,
-            command=command,
-            jobs=args.jobs,
-            seed=args.seed,
-            missing=args.missing,
-            progress=_Progress(),
-        )
-    except FileNotFoundError as exc:
-        raise UsageError(str(exc)) from exc
-    return 0
+    parse.__name__ = f"integer >= {least}"
+    return parse
 
 
-# ---------------------------------------------------------------------------
+_positive_int = _int_at_least(1)
 
 
-def build_parser():
-    parser = argparse.ArgumentParser(
-        prog="python -m sklearn_gpca",
+def _n_motions(value):
+    return value if value == "auto" else _positive_int(value)
+
+
+def _float_in(low, high=None, *, closed_high=False):
+    if high is None:
+        interval = f"[{low:g}, inf)"
+    else:
+        interval = f"[{low:g}, {high:g}{']' if closed_high else ')'}"
+
+    def parse(value):
+        try:
+            x = float(value)
+        except ValueError:
+            raise argparse.ArgumentTypeError(
+                f"must be a number, got {value!r}"
+            ) from None
+        too_high = high is not None and (x > high if closed_high else x >= high)
+        if not x >= low or too_high:
+            raise argparse.ArgumentTypeError(f"must lie in {interval}, got {value}")
+        return x
+
+    parse.__name__ = f"number in {interval}"
+    return parse
+
+
+def build_parser(prog=None):
+    """The argument parser of the command line."""
+    prog = _prog() if prog is None else prog
+    parser = _Parser(
+        prog=prog,
         description="Motion segmentation with PowerFactorization and GPCA.",
     )
     commands = parser.add_subparsers(dest="command", required=True)
     demo = commands.add_parser(
         "demo", help="segment synthetic trajectories with missing entries"
     )
-    demo.add_argument("--n-motions", type=int, default=3)
-    demo.add_argument("--n-points", type=int, default=100, help="per motion")
-    demo.add_argument("--n-frames", type=int, default=10)
-    demo.add_argument("--noise", type=float, default=1.0, help="pixels")
-    demo.add_argument("--missing", type=float, default=0.2, help="fraction")
+    demo.add_argument("--n-motions", type=_positive_int, default=3)
+    demo.add_argument("--n-points", type=_positive_int, default=100, help="per motion")
+    demo.add_argument("--n-frames", type=_int_at_least(3), default=10)
+    demo.add_argument("--noise", type=_float_in(0.0), default=1.0, help="pixels")
+    demo.add_argument(
+        "--missing", type=_float_in(0.0, 1.0), default=0.2, help="fraction in [0, 1)"
+    )
     demo.add_argument(
         "--missing-pattern", choices=["random", "occlusion"], default="occlusion"
     )
@@ -438,11 +379,12 @@ def build_parser():
         description=(
             "Segment trajectories into rigid motions with make_pipeline("
             "PowerFactorization(R), GPCAClustering(N)). FILE is a .npz (array X "
-            "of shape (points, 2 * frames), optional labels y), a .csv (one "
-            "trajectory x_1, y_1, ..., x_F, y_F per row; empty cells or NaN for "
-            "missing; an optional header row may name a label column y) or a "
+            "of shape (points, 2 * frames), optional labels y), a .csv or a "
             "Hopkins155-style .mat (field x, else y, of shape 3 x points x "
-            "frames; optional labels s)."
+            f"frames; optional labels s). {CSV_RULES} The labels file has one "
+            "line per trajectory, in the order of FILE. Files are written "
+            "whole or not at all (a temporary file, then a rename); FILE is "
+            "never overwritten, and another existing file only with --force."
         ),
     )
     segment.add_argument("file", metavar="FILE", help="trajectory file")
@@ -467,51 +409,29 @@ def build_parser():
     segment.add_argument(
         "--plot", metavar="PNG", help="draw the segmented trajectories to this image"
     )
+    segment.add_argument(
+        "--force",
+        action="store_true",
+        help="overwrite an existing --output or --plot file (never FILE itself)",
+    )
     segment.add_argument("--seed", type=int, default=0, help="random_state")
     segment.set_defaults(run=_segment)
 
-    benchmark = commands.add_parser(
-        "benchmark",
-        help="run a benchmark (hopkins155)",
-        description=(
-            "Misclassification on Hopkins155 beside the published methods, as "
-            "benchmarks/bench_hopkins155.py; writes hopkins155.md, "
-            "hopkins155_missing.md and their CSV files to --output-dir."
-        ),
-    )
-    benchmark.add_argument("name", choices=["hopkins155"])
-    benchmark.add_argument(
-        "--data-home",
-        metavar="DIR",
-        help="Hopkins155 folder (default: $SKLEARN_GPCA_DATA/hopkins155)",
-    )
-    benchmark.add_argument("--jobs", type=_positive_int, default=2, metavar="J")
-    benchmark.add_argument("--seed", type=int, default=0)
-    benchmark.add_argument(
-        "--missing",
-        type=float,
-        nargs="*",
-        default=[0.0, 0.1, 0.2, 0.3, 0.4, 0.5],
-        help="occlusion fractions for the two-motion sequences (none to skip)",
-    )
-    benchmark.add_argument(
-        "--output-dir",
-        type=Path,
-        default=Path("."),
-        metavar="DIR",
-        help="where to write the tables (default: current directory)",
-    )
-    benchmark.set_defaults(run=_benchmark)
     return parser
 
 
 def main(argv=None):
     """Run the command line; return the exit status."""
+    prog = _prog()
     argv = sys.argv[1:] if argv is None else list(argv)
-    args = build_parser().parse_args(argv)
-    args.argv = argv[2:] if args.command == "benchmark" else argv
     try:
-        return args.run(args)
-    except UsageError as exc:
-        print(f"python -m sklearn_gpca {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        args = build_parser(prog).parse_args(argv)
+        args.prog = prog
+        try:
+            return args.run(args)
+        except UsageError as exc:
+            print(f"{prog} {args.command}: error: {exc}", file=sys.stderr)
+            return 2
+    except KeyboardInterrupt:
+        print(f"\n{prog}: interrupted", file=sys.stderr)
+        return INTERRUPTED

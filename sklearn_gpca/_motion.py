@@ -29,8 +29,8 @@ def estimate_motions(X, labels, *, random_state=None):
         entries are NaN (or masked).
 
     labels : array-like of shape (n_samples,)
-        Group of each trajectory, e.g. the ``labels_`` of a segmentation.
-        Negative labels (outliers) are ignored.
+        Integer group of each trajectory, e.g. the ``labels_`` of a
+        segmentation. Negative labels (outliers, ``-1``) are ignored.
 
     random_state : int, RandomState instance or None, default=None
         Seed of the factorisations.
@@ -54,8 +54,9 @@ def estimate_motions(X, labels, *, random_state=None):
     Raises
     ------
     ValueError
-        If a group has fewer than 4 trajectories, or its trajectories have
-        too few observed entries for a rank-4 factorisation.
+        If ``labels`` are not 1-D integers, a group has fewer than 4
+        trajectories, its observed entries are all 0, or its trajectories
+        have too few observed entries for a rank-4 factorisation.
 
     Examples
     --------
@@ -70,7 +71,7 @@ def estimate_motions(X, labels, *, random_state=None):
     ((10, 4), (30, 3), True)
     """
     X = check_array(masked_to_nan(X), dtype=np.float64, ensure_all_finite="allow-nan")
-    labels = np.asarray(labels)
+    labels = _check_labels(labels)
     check_consistent_length(X, labels)
     motions = []
     for label in np.unique(labels[labels >= 0]):
@@ -84,7 +85,34 @@ def estimate_motions(X, labels, *, random_state=None):
     return motions
 
 
+def _check_labels(labels):
+    """Integer labels of shape (n_samples,), or a ValueError naming the problem."""
+    labels = np.asarray(labels)
+    if labels.ndim != 1:
+        raise ValueError(
+            f"labels must be 1-D (one group per trajectory), got shape {labels.shape}."
+        )
+    if labels.dtype.kind in "iub":
+        return labels.astype(np.intp)
+    if labels.dtype.kind == "f":
+        fractional = labels[labels != np.round(labels)]
+        if fractional.size == 0:
+            return labels.astype(np.intp)
+        raise ValueError(
+            f"labels must be integers, such as the labels_ of a segmentation; "
+            f"got {fractional[0]}."
+        )
+    raise ValueError(
+        "labels must be integers, such as the labels_ of a segmentation; got "
+        f"dtype {labels.dtype}."
+    )
+
+
 def _factorise(X, label, random_state):
+    if not np.any(np.nan_to_num(X)):
+        raise ValueError(
+            f"Group {label}: every observed entry is 0; there is no motion to estimate."
+        )
     pf = PowerFactorization(_RANK, whiten=False, random_state=random_state)
     try:
         coords = pf.fit_transform(X)

@@ -10,8 +10,9 @@ import numpy as np
 import pytest
 import scipy.io
 
-from sklearn_gpca._cli import main, read_trajectories
+from sklearn_gpca._cli import UsageError, main, read_trajectories
 from sklearn_gpca.datasets import make_motions
+from sklearn_gpca.metrics import misclassification_rate
 
 
 @pytest.fixture(scope="module")
@@ -140,7 +141,7 @@ def _error_cases(tmp_path):
         "at least 3 are needed": write_csv(tmp_path / "short.csv", X[:, :4]),
         "no array 'X'": no_x,
         "no field 'x' or 'y'": _mat_without_points(tmp_path / "bad.mat", X),
-        "different numbers of cells": _ragged(tmp_path / "ragged.csv"),
+        "4 cells where line 1 has 6": _ragged(tmp_path / "ragged.csv"),
     }
 
 
@@ -164,7 +165,7 @@ def _ragged(path):
         "at least 3 are needed",
         "no array 'X'",
         "no field 'x' or 'y'",
-        "different numbers of cells",
+        "4 cells where line 1 has 6",
     ],
 )
 def test_segment_user_errors(tmp_path, capsys, message):
@@ -197,35 +198,6 @@ def test_segment_bad_n_motions_is_a_usage_error(tmp_path, capsys, value):
     assert "--n-motions" in capsys.readouterr().err
 
 
-def test_benchmark_missing_data_home(tmp_path, capsys):
-    status = main(["benchmark", "hopkins155", "--data-home", str(tmp_path / "no")])
-    assert status == 2
-    assert "no such directory" in capsys.readouterr().err
-    status = main(["benchmark", "hopkins155", "--data-home", str(tmp_path)])
-    assert status == 2
-    assert "No Hopkins155 sequences" in capsys.readouterr().err
-
-
-# One sequence leaves most table cells empty: their means warn.
-@pytest.mark.filterwarnings("ignore:Mean of empty slice:RuntimeWarning")
-@pytest.mark.filterwarnings("ignore:invalid value:RuntimeWarning")
-def test_benchmark_hopkins155_subset(tmp_path, capsys, hopkins155_dir):
-    data = tmp_path / "data"
-    data.mkdir()
-    (data / "1R2RC_g12").symlink_to(hopkins155_dir / "1R2RC_g12")
-    out = tmp_path / "out"
-    argv = ["benchmark", "hopkins155", "--data-home", str(data), "--jobs", "1"]
-    status = main([*argv, "--missing", "--output-dir", str(out)])
-    assert status == 0
-    captured = capsys.readouterr()
-    assert "1 sequences" in captured.err
-    assert "fits" in captured.err
-    table = (out / "hopkins155.md").read_text()
-    assert "python -m sklearn_gpca benchmark hopkins155 --data-home" in table
-    assert "| default pipeline |" in table
-    assert not (out / "hopkins155_missing.md").exists()
-
-
 def test_subprocess_segment_and_error(tmp_path, motions):
     X, y = motions
     path = write_npz(tmp_path / "tracks.npz", X, y)
@@ -247,3 +219,519 @@ def test_subprocess_segment_and_error(tmp_path, motions):
     assert bad.returncode == 2
     assert bad.stderr.count("\n") == 1
     assert "no such file" in bad.stderr
+
+
+# --- the labels file: equal to the pipeline's labels, never lost -----------
+
+
+def reference_labels(X, n_motions, rank=5, seed=0):
+    """The segmentation the command line promises, through the public API."""
+    from sklearn.pipeline import make_pipeline
+
+    from sklearn_gpca import GPCAClustering, PowerFactorization
+
+    return make_pipeline(
+        PowerFactorization(rank, random_state=seed),
+        GPCAClustering(n_motions, random_state=seed),
+    ).fit_predict(X)
+
+
+@pytest.mark.parametrize("fmt", ["npz", "csv"])
+def test_segment_writes_and_scores_the_pipeline_labels(tmp_path, capsys, fmt):
+    X, y = make_motions(
+        3, n_points=[40, 50, 60], n_frames=8, noise=0.5, missing=0.1, random_state=5
+    )
+    if fmt == "npz":
+        path = write_npz(tmp_path / "tracks.npz", X, y)
+    else:
+        header = [f"{c}{f}" for f in range(8) for c in "xy"] + ["label"]
+        path = write_csv(tmp_path / "tracks.csv", np.column_stack([X, y]), header)
+    out = tmp_path / "labels.txt"
+    assert main(["segment", str(path), "--n-motions", "3", "--output", str(out)]) == 0
+    expected = reference_labels(X, 3)
+    written = np.loadtxt(out, dtype=int)
+    np.testing.assert_array_equal(written, expected)
+    error = misclassification_rate(y, expected)
+    # three motions, 0.5 px noise: a draw the default pipeline segments well
+    assert error <= 0.05
+    rows = summary(capsys.readouterr().out)
+    assert rows["misclassified"] == f"{100 * error:.2f} % (ground truth in file)"
+    sizes = np.bincount(expected, minlength=3)
+    assert rows["sizes"] == " ".join(str(n) for n in sizes)
+
+
+def test_demo_reports_the_error_of_its_segmentation(capsys):
+    from sklearn.pipeline import make_pipeline
+
+    from sklearn_gpca import GPCAClustering, PowerFactorization
+
+    assert (
+        main(["demo", "--n-points", "30", "--n-frames", "6", "--n-motions", "2"]) == 0
+    )
+    X, y = make_motions(
+        2,
+        n_points=[30, 30],
+        n_frames=6,
+        noise=1.0,
+        missing=0.2,
+        missing_pattern="occlusion",
+        random_state=0,
+    )
+    labels = make_pipeline(
+        PowerFactorization(random_state=0), GPCAClustering(2, random_state=0)
+    ).fit_predict(X)
+    rows = summary(capsys.readouterr().out)
+    assert rows["misclassified"] == f"{100 * misclassification_rate(y, labels):.2f} %"
+    assert rows["missing entries"] == f"{100 * np.isnan(X).mean():.1f} % (occlusion)"
+
+
+def test_output_equal_to_the_input_is_refused(tmp_path, capsys, motions):
+    X, y = motions
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    before = path.read_bytes()
+    for extra in ([], ["--force"]):
+        argv = ["segment", str(path), "--n-motions", "2", "--output", str(path)]
+        assert main([*argv, *extra]) == 2
+        err = capsys.readouterr().err
+        assert "is the input file" in err
+        assert len(err.strip().splitlines()) == 1
+        assert path.read_bytes() == before
+
+
+def test_output_through_another_name_of_the_input_is_refused(tmp_path, capsys, motions):
+    path = write_npz(tmp_path / "tracks.npz", *motions)
+    link = tmp_path / "link.npz"
+    link.symlink_to(path)
+    argv = ["segment", str(path), "--n-motions", "2", "--output", str(link), "--force"]
+    assert main(argv) == 2
+    assert "is the input file" in capsys.readouterr().err
+    assert np.load(path)["X"].shape == (80, 16)
+
+
+@pytest.mark.parametrize("option", ["--output", "--plot"])
+def test_existing_file_is_overwritten_only_with_force(tmp_path, capsys, option):
+    if option == "--plot":
+        pytest.importorskip("matplotlib")
+    X, y = make_motions(2, n_points=[30, 30], n_frames=6, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    target = tmp_path / ("labels.txt" if option == "--output" else "tracks.png")
+    target.write_text("precious\n")
+    argv = ["segment", str(path), "--n-motions", "2", option, str(target)]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "exists; add --force" in err
+    assert target.read_text() == "precious\n"
+    assert main([*argv, "--force"]) == 0
+    if option == "--output":
+        np.testing.assert_array_equal(
+            np.loadtxt(target, dtype=int), reference_labels(X, 2)
+        )
+    else:
+        assert target.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_labels_are_written_whole_or_not_at_all(tmp_path, capsys, monkeypatch):
+    X, y = make_motions(2, n_points=[30, 30], n_frames=6, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    target = tmp_path / "labels.txt"
+    target.write_text("precious\n")
+    real_savetxt = np.savetxt
+
+    def savetxt_then_fail(fname, values, **kwargs):
+        real_savetxt(fname, values[:5], **kwargs)
+        raise OSError("No space left on device")
+
+    monkeypatch.setattr(np, "savetxt", savetxt_then_fail)
+    argv = ["segment", str(path), "--n-motions", "2", "--output", str(target)]
+    assert main([*argv, "--force"]) == 2
+    assert "No space left on device" in capsys.readouterr().err
+    assert target.read_text() == "precious\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["labels.txt", "tracks.npz"]
+
+
+def test_output_in_a_missing_folder_is_refused_before_fitting(tmp_path, capsys):
+    X, y = make_motions(2, n_points=[30, 30], n_frames=6, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    out = tmp_path / "no" / "labels.txt"
+    assert main(["segment", str(path), "--n-motions", "2", "--output", str(out)]) == 2
+    captured = capsys.readouterr()
+    assert "no such directory" in captured.err
+    assert captured.out == ""
+
+
+# --- csv files: header, missing cells, label columns ------------------------
+
+
+def csv_lines(X, labels=None, missing=""):
+    lines = []
+    for i, row in enumerate(X):
+        cells = [missing if np.isnan(v) else repr(float(v)) for v in row]
+        if labels is not None:
+            cells.append(str(labels[i]))
+        lines.append(",".join(cells))
+    return lines
+
+
+def test_csv_byte_order_mark_keeps_the_first_row(tmp_path, capsys, motions):
+    X, _ = motions
+    path = tmp_path / "bom.csv"
+    path.write_text("\n".join(csv_lines(X)) + "\n", encoding="utf-8-sig")
+    assert path.read_bytes()[:3] == b"\xef\xbb\xbf"
+    X_read, y_read = read_trajectories(path)
+    np.testing.assert_array_equal(np.isnan(X_read), np.isnan(X))
+    np.testing.assert_allclose(X_read[~np.isnan(X)], X[~np.isnan(X)], rtol=1e-15)
+    assert y_read is None
+    out = tmp_path / "labels.txt"
+    assert main(["segment", str(path), "--n-motions", "2", "--output", str(out)]) == 0
+    assert len(out.read_text().splitlines()) == X.shape[0]
+
+
+@pytest.mark.parametrize("missing", ["", "NA", "nan", "NaN", "N/A", " na "])
+def test_csv_missing_cells_in_every_row_including_the_first(tmp_path, missing):
+    X = make_motions(2, n_points=[10, 10], n_frames=5, random_state=0)[0]
+    X[0, 3] = X[0, 6] = X[4, 0] = np.nan
+    path = tmp_path / "t.csv"
+    path.write_text("\n".join(csv_lines(X, missing=missing)) + "\n")
+    X_read, _ = read_trajectories(path)
+    assert X_read.shape == X.shape
+    np.testing.assert_array_equal(np.isnan(X_read), np.isnan(X))
+
+
+def test_csv_header_is_a_row_without_any_number(tmp_path):
+    X = make_motions(2, n_points=[10, 10], n_frames=4, random_state=0)[0]
+    body = "\n".join(csv_lines(X))
+    # names: a header
+    path = tmp_path / "named.csv"
+    path.write_text(",".join(f"c{j}" for j in range(8)) + "\n" + body + "\n")
+    assert read_trajectories(path)[0].shape == (20, 8)
+    # numbers and a name in the first row: not a header, and not a number
+    path = tmp_path / "mixed.csv"
+    path.write_text("1.0,2.0,x,4.0,5.0,6.0,7.0,8.0\n" + body + "\n")
+    with pytest.raises(UsageError, match=r"line 1: cell 3 \('x'\) is not a number"):
+        read_trajectories(path)
+    # a first row of missing cells only: an all-missing trajectory, not a header
+    path = tmp_path / "empty_first.csv"
+    path.write_text("NA,,nan,NA,,,NA,\n" + body + "\n")
+    X_read, _ = read_trajectories(path)
+    assert X_read.shape == (21, 8)
+    assert np.isnan(X_read[0]).all()
+
+
+@pytest.mark.parametrize("name", ["label", "labels", "s", "y_true", "Label", " LABEL"])
+def test_csv_label_column_is_found_by_name(tmp_path, motions, name):
+    X, y = motions
+    header = ["x", "y"] * 8
+    position = 5
+    header.insert(position, name)
+    lines = csv_lines(X, labels=y)
+    # move the label cell to its column
+    rows = []
+    for line in lines:
+        cells = line.split(",")
+        cells.insert(position, cells.pop())
+        rows.append(",".join(cells))
+    path = tmp_path / "t.csv"
+    path.write_text(",".join(header) + "\n" + "\n".join(rows) + "\n")
+    X_read, y_read = read_trajectories(path)
+    np.testing.assert_array_equal(y_read, y)
+    np.testing.assert_array_equal(np.isnan(X_read), np.isnan(X))
+    np.testing.assert_allclose(X_read[~np.isnan(X)], X[~np.isnan(X)], rtol=1e-15)
+
+
+def test_csv_header_of_coordinates_has_no_label_column(tmp_path, motions):
+    X, _ = motions
+    path = tmp_path / "t.csv"
+    path.write_text(",".join(["x", "y"] * 8) + "\n" + "\n".join(csv_lines(X)) + "\n")
+    X_read, y_read = read_trajectories(path)
+    assert X_read.shape == (80, 16)
+    assert y_read is None
+
+
+def test_csv_string_labels(tmp_path, capsys, motions):
+    X, y = motions
+    names = np.array(["car", "background"])[y]
+    path = tmp_path / "t.csv"
+    header = ",".join(["x", "y"] * 8 + ["motion"])
+    path.write_text(header + "\n" + "\n".join(csv_lines(X, labels=names)) + "\n")
+    _, y_read = read_trajectories(path)
+    np.testing.assert_array_equal(y_read, names)
+    assert main(["segment", str(path), "--n-motions", "2"]) == 0
+    error = misclassification_rate(y, reference_labels(X, 2))
+    rows = summary(capsys.readouterr().out)
+    assert rows["misclassified"] == f"{100 * error:.2f} % (ground truth in file)"
+
+
+@pytest.mark.parametrize(
+    ("header", "labels", "message"),
+    [
+        # no header: every column is a coordinate, and 17 is odd
+        (None, "0", r"odd number of columns \(17\).*name a label column"),
+        (["x", "y"] * 8 + ["label"], "", r"label column 'label' is empty on line 2"),
+        (["label"] + ["x", "y"] * 7 + ["x", "s"], "1", r"several label columns"),
+        (["x", "y"] * 8, "1", r"line 2: 17 cells where the header has 16"),
+    ],
+)
+def test_csv_label_column_errors(tmp_path, capsys, motions, header, labels, message):
+    X, _ = motions
+    lines = csv_lines(X, labels=[labels] * X.shape[0])
+    if header is not None:
+        lines.insert(0, ",".join(header))
+    path = tmp_path / "t.csv"
+    path.write_text("\n".join(lines) + "\n")
+    assert main(["segment", str(path), "--n-motions", "2"]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1
+    assert re.search(message, err), err
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "\ufeffNA,2,3,4,5,6,7,8\n{body}\n",
+        "x,y,x,y,x,y,x,y\n{body}\n\n\n",
+        "{body}\n\n",
+        "\n\n{body}",
+        "{body}\r\n",
+    ],
+    ids=["bom-na", "header-trailing-blank", "trailing-blank", "leading-blank", "crlf"],
+)
+def test_one_label_line_per_input_row(tmp_path, text):
+    X = make_motions(2, n_points=[15, 15], n_frames=4, random_state=0)[0]
+    body = "\n".join(csv_lines(X))
+    if text.startswith("\ufeffNA"):
+        body = "\n".join(csv_lines(X)[1:])
+        n_rows = X.shape[0]  # the NA row is a trajectory
+    else:
+        n_rows = X.shape[0]
+    path = tmp_path / "t.csv"
+    path.write_bytes(text.format(body=body).encode("utf-8"))
+    out = tmp_path / "labels.txt"
+    status = main(
+        ["segment", str(path), "--n-motions", "2", "--rank", "4", "--output", str(out)]
+    )
+    assert status == 0
+    assert len(out.read_text().splitlines()) == n_rows
+
+
+# --- one-line errors, exit status, warnings, Ctrl-C -------------------------
+
+
+def _zip_without_npy(path):
+    import zipfile
+
+    with zipfile.ZipFile(path, "w") as zf:
+        zf.writestr("readme.txt", "not an array")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("make", "message"),
+    [
+        (lambda p: p.write_bytes(b"") and p, "the file is empty"),
+        (lambda p: p.write_bytes(bytes(range(256)) * 4) and p, "not a .npz archive"),
+        (lambda p: p.write_bytes(b"PK\x03\x04 truncated") and p, "cannot read as .npz"),
+        (_zip_without_npy, "no array 'X'"),
+    ],
+    ids=["empty", "random-bytes", "truncated-zip", "zip-without-X"],
+)
+def test_bad_npz_files_get_one_line(tmp_path, capsys, make, message):
+    path = tmp_path / "bad.npz"
+    make(path)
+    assert main(["segment", str(path), "--n-motions", "2"]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1
+    assert message in lines[0]
+    assert "pickle" not in lines[0]
+
+
+@pytest.mark.parametrize(
+    ("scale", "message"),
+    [
+        (1e200, r"as large as 1e\+200 exceed 1e\+150"),
+        (1e-200, r"largest coordinate is 1e-200, below 1e-150"),
+        (0.0, r"largest coordinate is 0, below 1e-150"),
+    ],
+)
+def test_out_of_range_coordinates_get_one_line(
+    tmp_path, capsys, motions, scale, message
+):
+    X, y = motions
+    X = X / np.nanmax(np.abs(X)) * scale
+    path = write_npz(tmp_path / "scaled.npz", X, y)
+    assert main(["segment", str(path), "--n-motions", "2"]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1
+    assert re.search(message, lines[0]), lines[0]
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["demo", "--n-motions", "0"], "--n-motions: must be at least 1, got 0"),
+        (["demo", "--n-points", "-3"], "--n-points: must be at least 1, got -3"),
+        (["demo", "--n-frames", "1"], "--n-frames: must be at least 3, got 1"),
+        (["demo", "--missing", "1.5"], r"--missing: must lie in \[0, 1\), got 1.5"),
+        (["demo", "--missing", "1"], r"--missing: must lie in \[0, 1\), got 1"),
+        (["demo", "--noise", "-1"], r"--noise: must lie in \[0, inf\), got -1"),
+        (["demo", "--noise", "nan"], r"--noise: must lie in \[0, inf\), got nan"),
+        (["segment", "x.npz", "--n-motions", "two"], "must be an integer, got 'two'"),
+        (["segment", "x.npz"], "the following arguments are required: --n-motions"),
+    ],
+)
+def test_bad_arguments_get_one_line_and_status_2(capsys, argv, message):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1
+    assert re.search(message, lines[0]), lines[0]
+    assert lines[0].startswith(f"python -m sklearn_gpca {argv[0]}: error: ")
+
+
+def test_ctrl_c_exits_130_with_one_line(tmp_path, capsys, monkeypatch, motions):
+    import sklearn_gpca._cli as cli
+
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(cli, "_fit", interrupted)
+    path = write_npz(tmp_path / "tracks.npz", *motions)
+    try:
+        status = main(["segment", str(path), "--n-motions", "2"])
+    except KeyboardInterrupt:  # caught here, or it would stop pytest itself
+        pytest.fail("KeyboardInterrupt escaped the command line")
+    assert status == 130
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert lines == ["python -m sklearn_gpca: interrupted"]
+
+
+def test_subprocess_ctrl_c(tmp_path):
+    """A real SIGINT while the command line waits on its input: status 130
+    and one line, no traceback."""
+    import errno
+    import os
+    import signal
+    import time
+
+    fifo = tmp_path / "tracks.npz"
+    os.mkfifo(fifo)
+    process = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "sklearn_gpca",
+            "segment",
+            str(fifo),
+            "--n-motions",
+            "2",
+        ],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    # A writer can open the FIFO only once the command line has opened it to
+    # read (inside its main loop, past the imports); it then blocks reading.
+    deadline = time.monotonic() + 120
+    while True:
+        try:
+            writer = os.open(fifo, os.O_WRONLY | os.O_NONBLOCK)
+            break
+        except OSError as exc:
+            assert exc.errno == errno.ENXIO
+            assert process.poll() is None and time.monotonic() < deadline
+            time.sleep(0.05)
+    try:
+        process.send_signal(signal.SIGINT)
+        _, err = process.communicate(timeout=120)
+    finally:
+        os.close(writer)
+    assert process.returncode == 130, err
+    assert err.strip().splitlines() == ["python -m sklearn_gpca: interrupted"]
+
+
+def test_library_bug_is_not_a_usage_error(tmp_path, monkeypatch, motions):
+    import sklearn_gpca._cli as cli
+
+    def buggy_fit(*args, **kwargs):
+        return np.ones(2) + np.ones(3)  # numpy's ValueError: a bug, not the input
+
+    monkeypatch.setattr(cli, "_fit", buggy_fit)
+    path = write_npz(tmp_path / "tracks.npz", *motions)
+    with pytest.raises(ValueError, match="could not be broadcast"):
+        main(["segment", str(path), "--n-motions", "2"])
+
+
+def test_library_check_of_the_input_is_a_usage_error(tmp_path, capsys, motions):
+    X, y = motions
+    X = X.copy()
+    X[3, 2:] = np.nan  # one observed point: too few entries for rank 5
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    assert main(["segment", str(path), "--n-motions", "2"]) == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1
+    assert "observed entries" in lines[0]
+
+
+def test_library_warnings_are_shown(tmp_path, capsys, monkeypatch, motions):
+    import warnings
+
+    from sklearn.exceptions import ConvergenceWarning
+
+    import sklearn_gpca._cli as cli
+
+    real_fit = cli._fit
+
+    def warning_fit(*args, **kwargs):
+        warnings.warn("cluster 2 is empty", UserWarning, stacklevel=1)
+        warnings.warn("cluster 2 is empty", UserWarning, stacklevel=1)
+        warnings.warn("did not converge", ConvergenceWarning, stacklevel=1)
+        warnings.warn("internal detail", DeprecationWarning, stacklevel=1)
+        return real_fit(*args, **kwargs)
+
+    monkeypatch.setattr(cli, "_fit", warning_fit)
+    path = write_npz(tmp_path / "tracks.npz", *motions)
+    assert main(["segment", str(path), "--n-motions", "2"]) == 0
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert lines == [
+        "python -m sklearn_gpca: warning: cluster 2 is empty (UserWarning)",
+        "python -m sklearn_gpca: warning: did not converge (ConvergenceWarning)",
+    ]
+
+
+def test_console_script_entry_point():
+    from importlib.metadata import entry_points
+
+    (script,) = entry_points(group="console_scripts", name="sklearn-gpca")
+    assert script.load() is main
+
+
+def test_sizes_count_empty_motions_and_outliers(tmp_path, capsys, monkeypatch):
+    import sklearn_gpca._cli as cli
+
+    X, y = make_motions(2, n_points=[10, 10], n_frames=4, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    real_fit = cli._fit
+    labels = np.r_[np.zeros(12, dtype=int), np.full(5, 2), np.full(3, -1)]
+
+    def fit_with_outliers(*args, **kwargs):
+        pipeline, _ = real_fit(*args, **kwargs)
+        pipeline[-1].n_clusters_ = 3
+        return pipeline, labels
+
+    monkeypatch.setattr(cli, "_fit", fit_with_outliers)
+    out = tmp_path / "labels.txt"
+    argv = [
+        "segment",
+        str(path),
+        "--n-motions",
+        "2",
+        "--rank",
+        "4",
+        "--output",
+        str(out),
+    ]
+    assert main(argv) == 0
+    rows = summary(capsys.readouterr().out)
+    assert rows["sizes"] == "12 0 5 (+ 3 outliers, label -1)"
+    np.testing.assert_array_equal(np.loadtxt(out, dtype=int), labels)

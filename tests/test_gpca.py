@@ -311,10 +311,14 @@ def test_grid_search_picks_number_of_motions():
 
 
 def test_refinement_and_paper_settings_agree_on_clean_hyperplanes(three_hyperplanes):
-    _, X, y, _, _, _ = three_hyperplanes
+    _, X, y, _, _, default = three_hyperplanes
     paper = GPCAClustering(3, random_state=0, **PAPER).fit(X)
     assert misclassification_rate(y, paper.labels_) <= 0.01
     assert paper.n_iter_ == 0
+    # the two settings agree: the same segmentation (to 1 %) and normals
+    assert misclassification_rate(paper.labels_, default.labels_) <= 0.01
+    overlap = np.abs(paper.normals_ @ default.normals_.T).max(axis=1)
+    assert_allclose(overlap, 1.0, atol=1e-4)
 
 
 def test_power_needs_graph():

@@ -251,3 +251,60 @@ def test_real_category_counts(shared_data_dir):
     extra = load_hopkins155(shared_data_dir, sequences="dancing")[0]
     assert extra.n_motions == 5
     assert extra.category == "articulated"
+
+
+# --- bad values are rejected, not loaded (issue: silent wrong data) -------
+
+
+def _points(n_points=6, n_frames=4, bad=None):
+    x = np.ones((3, n_points, n_frames))
+    x[:2] = np.random.RandomState(0).uniform(-1, 1, size=(2, n_points, n_frames))
+    if bad is not None:
+        x[0, 2, 1] = bad
+    return x
+
+
+@pytest.mark.parametrize(
+    ("overrides", "match"),
+    [
+        (dict(x=_points(bad=np.nan)), r"'x' holds 1 NaN or infinite value"),
+        (dict(x=_points(bad=np.inf)), r"'x' holds 1 NaN or infinite value"),
+        (dict(y=_points(bad=np.nan)), r"'y' holds 1 NaN or infinite value"),
+        (dict(s=np.array([[1.0], [2], [1.5], [2], [1], [2]])), r"'s' holds 1.5"),
+        (
+            dict(x=np.ones((3, 6, 0)), y=np.ones((3, 6, 0))),
+            r"no frames",
+        ),
+        (
+            dict(x=np.ones((3, 0, 4)), y=np.ones((3, 0, 4)), s=np.ones((0, 1))),
+            r"no points",
+        ),
+    ],
+    ids=["nan-x", "inf-x", "nan-y", "float-s", "zero-frames", "zero-points"],
+)
+def test_bad_values_are_rejected(tmp_path, overrides, match):
+    write_sequence(tmp_path, "bad", **overrides)
+    with pytest.raises(ValueError, match=match) as excinfo:
+        load_hopkins155(tmp_path)
+    assert "bad_truth.mat" in str(excinfo.value)
+
+
+def test_integral_float_labels_are_accepted(tmp_path):
+    write_sequence(tmp_path, "ok", s=np.array([[1.0], [2], [1], [2], [1], [2]]))
+    assert_array_equal(load_hopkins155(tmp_path)[0].y, [0, 1, 0, 1, 0, 1])
+
+
+def test_failed_load_creates_no_data_home(tmp_path, monkeypatch):
+    home = tmp_path / "home"
+    monkeypatch.delenv("SKLEARN_GPCA_DATA", raising=False)
+    monkeypatch.setenv("HOME", str(home))
+    monkeypatch.delenv("SCIKIT_LEARN_DATA", raising=False)
+    with pytest.raises(FileNotFoundError, match="scikit_learn_data"):
+        load_hopkins155()
+    with pytest.raises(OSError, match="download_if_missing=False"):
+        fetch_hopkins155(download_if_missing=False)
+    assert not home.exists()
+    monkeypatch.setenv("SCIKIT_LEARN_DATA", str(tmp_path / "sk"))
+    with pytest.raises(FileNotFoundError, match="sk"):
+        load_hopkins155()
+    assert sorted(p.name for p in tmp_path.iterdir()) == []

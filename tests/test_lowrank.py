@@ -131,3 +131,37 @@ def test_real_dino_from_lowrank_dir(lowrank_dir):
     assert data.name == "dino_trimmed"
     assert data.X.shape == (319, 72)
     assert load_lowrank("Dino_trimmed", data_home=lowrank_dir).X.shape == (319, 72)
+
+
+def test_folder_without_a_mat_file_says_so(tmp_path):
+    (tmp_path / "Toy").mkdir()
+    (tmp_path / "Toy" / "readme.txt").write_text("no data here")
+    with pytest.raises(FileNotFoundError, match=r"Toy holds no \.mat file"):
+        load_lowrank("Toy", data_home=tmp_path)
+
+
+def test_folder_with_several_mat_files_says_so(tmp_path):
+    write_mat(tmp_path / "Toy" / "a.mat", M=np.ones((2, 2)), W=np.ones((2, 2)))
+    write_mat(tmp_path / "Toy" / "b.mat", M=np.ones((2, 2)), W=np.ones((2, 2)))
+    with pytest.raises(ValueError, match=r"several \.mat files.*a\.mat.*b\.mat"):
+        load_lowrank("toy", data_home=tmp_path)
+
+
+def test_upper_case_mat_path_is_a_path(tmp_path):
+    M = np.arange(1.0, 13.0).reshape(4, 3)
+    path = write_mat(tmp_path / "UPPER.MAT", M=M, W=np.ones((4, 3)))
+    data = load_lowrank(path)
+    assert_array_equal(data.X, M.T)
+    assert data.name == "UPPER"
+    with pytest.raises(FileNotFoundError, match=r"No such \.mat file"):
+        load_lowrank(tmp_path / "ABSENT.MAT")
+
+
+def test_failed_load_creates_no_data_home(tmp_path, monkeypatch):
+    home = tmp_path / "home"
+    monkeypatch.delenv("SKLEARN_GPCA_DATA", raising=False)
+    monkeypatch.delenv("SCIKIT_LEARN_DATA", raising=False)
+    monkeypatch.setenv("HOME", str(home))
+    with pytest.raises(FileNotFoundError, match="scikit_learn_data"):
+        load_lowrank("Dino")
+    assert not home.exists()

@@ -32,10 +32,18 @@ from sklearn_gpca.metrics import (
         ([0, 0, 1, 1, 2, 2], [0, 0, 1, 1, 1, 1], 2 / 6),
         # more clusters than groups: cluster 2 is unmatched
         ([0, 0, 0, 1, 1, 1], [0, 0, 2, 1, 1, 1], 1 / 6),
-        # string labels and an outlier label -1
+        # string labels
         (["a", "a", "b", "b"], ["x", "y", "y", "y"], 1 / 4),
-        ([-1, 0, 0, 1, 1], [2, 0, 0, 1, 1], 0.0),
         ([3], [7], 0.0),
+        # the noise label -1 is never renamed: outliers are right only as -1
+        ([-1, 0, 0, 1, 1], [-1, 0, 0, 1, 1], 0.0),
+        ([-1, 0, 0, 1, 1], [-1, 5, 5, 6, 6], 0.0),
+        ([-1, 0, 0, 1, 1], [2, 0, 0, 1, 1], 1 / 5),
+        ([0, 0, 1, 1], [-1, 0, 1, 1], 1 / 4),
+        # predicting -1 for a whole motion does not match it
+        ([0, 0, 0, 1, 1, 1], [-1, -1, -1, 1, 1, 1], 3 / 6),
+        ([-1, -1, 0, 0], [0, 0, -1, -1], 4 / 4),
+        ([-1.0, 0.0, 1.0], [-1, 3, 4], 0.0),
     ],
 )
 def test_hand_computed(y_true, y_pred, expected):
@@ -74,7 +82,8 @@ def test_invariant_under_label_permutations(labels, noise, perm, perm_true):
 @given(labels=st.lists(st.integers(-1, 6), min_size=1, max_size=30))
 def test_relabelled_copy_is_perfect(labels):
     y = np.array(labels)
-    assert misclassification_rate(y, 10 * y + 3) == 0.0
+    # motions renamed, the noise label -1 kept
+    assert misclassification_rate(y, np.where(y >= 0, 10 * y + 3, -1)) == 0.0
 
 
 @pytest.mark.parametrize(
@@ -148,3 +157,70 @@ def test_get_scorer_falls_back_to_sklearn():
     assert get_scorer(None) is None
     with pytest.raises(ValueError, match="not a valid scoring value"):
         get_scorer("no_such_scorer")
+
+
+@pytest.mark.parametrize(
+    ("y_true", "y_pred", "expected"),
+    [
+        # outliers left out: 4 inliers, the one flagged -1 is an error
+        ([-1, -1, 0, 0, 1, 1], [0, 1, 0, 0, 1, -1], 1 / 4),
+        ([-1, 0, 0, 1, 1], [2, 0, 0, 1, 1], 0.0),
+        ([0, 0, 1, 1], [-1, 0, 1, 1], 1 / 4),
+    ],
+)
+def test_noise_ignore_scores_the_inliers(y_true, y_pred, expected):
+    assert_allclose(
+        misclassification_rate(y_true, y_pred, noise="ignore"), expected, atol=1e-12
+    )
+
+
+def test_noise_ignore_needs_an_inlier():
+    with pytest.raises(ValueError, match="every point of y_true is noise"):
+        misclassification_rate([-1, -1], [0, 1], noise="ignore")
+    with pytest.raises(ValueError, match="noise"):
+        misclassification_rate([0, 1], [0, 1], noise="drop")
+
+
+@settings(max_examples=50, deadline=None)
+@given(
+    y_true=st.lists(st.integers(-1, 4), min_size=1, max_size=40),
+    data=st.data(),
+)
+def test_noise_rule_against_a_brute_force_matching(y_true, data):
+    """Best matching of the motions by brute force over permutations; -1 fixed."""
+    import itertools
+
+    y_true = np.array(y_true)
+    y_pred = np.array(
+        data.draw(
+            st.lists(st.integers(-1, 3), min_size=len(y_true), max_size=len(y_true))
+        )
+    )
+    best = 0
+    for perm in itertools.permutations(range(5), 4):
+        renamed = np.where(y_pred >= 0, np.array(perm)[np.maximum(y_pred, 0)], -1)
+        best = max(best, np.sum(renamed == y_true))
+    assert_allclose(misclassification_rate(y_true, y_pred), 1 - best / len(y_true))
+    inliers = y_true >= 0
+    if inliers.any():
+        best = 0
+        for perm in itertools.permutations(range(5), 4):
+            renamed = np.where(y_pred >= 0, np.array(perm)[np.maximum(y_pred, 0)], -1)
+            best = max(best, np.sum((renamed == y_true)[inliers]))
+        assert_allclose(
+            misclassification_rate(y_true, y_pred, noise="ignore"),
+            1 - best / inliers.sum(),
+        )
+
+
+def test_scorer_with_noise_ignore():
+    from sklearn.metrics import make_scorer
+
+    scorer = make_scorer(
+        misclassification_rate, greater_is_better=False, noise="ignore"
+    )
+    X = np.array([[-1.0], [0.5], [0.6], [1.5], [1.6]])
+    y = np.array([-1, 0, 0, 1, 1])
+    est = _NearestCentreClusterer(1.0).fit(X)  # predicts 0, 0, 0, 1, 1
+    assert scorer(est, X, y) == 0.0
+    assert_allclose(misclassification_scorer(est, X, y), -1 / 5)

@@ -8,6 +8,7 @@ import sys
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
+from sklearn.base import BaseEstimator, ClusterMixin
 from sklearn.cluster import KMeans
 from sklearn.pipeline import make_pipeline
 
@@ -17,7 +18,8 @@ from sklearn_gpca import (
     ShapeInteractionClustering,
     shape_interaction_matrix,
 )
-from sklearn_gpca.datasets import make_motions
+from sklearn_gpca.datasets import make_missing, make_motions
+from sklearn_gpca.metrics import misclassification_rate
 
 mpl = pytest.importorskip("matplotlib")
 mpl.use("Agg")
@@ -208,17 +210,33 @@ def test_error_curve_from_predictions_band():
 
 def test_error_curve_from_estimator_missing_fraction():
     X, y = make_motions(2, n_points=[40, 40], n_frames=6, random_state=0)
+    values, n_repeats, pattern = [0.0, 0.3], 2, "occlusion"
     display = ErrorCurveDisplay.from_estimator(
         gpca_pipeline(),
         X,
         y,
         param_name="missing_fraction",
-        param_values=[0.0, 0.3],
-        n_repeats=2,
+        param_values=values,
+        n_repeats=n_repeats,
+        missing_pattern=pattern,
         random_state=0,
     )
-    assert display.errors.shape == (2, 2)
-    assert np.all((display.errors >= 0) & (display.errors <= 0.5))
+    # random_state seeds the masks, drawn in order: the same fits by hand.
+    rng = np.random.RandomState(0)
+    expected = [
+        [
+            misclassification_rate(
+                y,
+                gpca_pipeline().fit_predict(
+                    make_missing(X, value, pattern=pattern, random_state=rng)
+                ),
+            )
+            for _ in range(n_repeats)
+        ]
+        for value in values
+    ]
+    assert_allclose(display.errors, expected)
+    assert_allclose(display.line_.get_ydata(), np.mean(expected, axis=1))
     assert display.ax_.get_xlabel() == "missing fraction"
 
 
@@ -245,3 +263,146 @@ def test_trajectory_display_on_shared_axes(motions):
     for ax in axes:
         TrajectoryDisplay(X, y).plot(ax=ax)
     assert axes[0].get_aspect() == 1.0
+
+
+# --- the displays' numbers against hand-computed values --------------------
+
+
+class _Threshold(ClusterMixin, BaseEstimator):
+    """Label 1 where the first column exceeds ``threshold``: hand-checkable."""
+
+    fitted_on = []  # missing fraction of every X this class was fitted on
+
+    def __init__(self, threshold=0.0):
+        self.threshold = threshold
+
+    def fit(self, X, y=None):
+        X = np.asarray(X, dtype=float)
+        type(self).fitted_on.append(np.isnan(X).mean())
+        self.labels_ = (np.nan_to_num(X[:, 0], nan=-np.inf) > self.threshold).astype(
+            int
+        )
+        return self
+
+
+def test_error_curve_from_estimator_parameter_hand_computed():
+    X = np.array([[0.1], [0.2], [0.4], [0.5], [0.6], [0.9]])
+    y = np.array([0, 0, 1, 1, 1, 1])
+    display = ErrorCurveDisplay.from_estimator(
+        _Threshold(), X, y, param_name="threshold", param_values=[-0.5, 0.3, 0.8]
+    )
+    # t=-0.5: one cluster, group 0 (2 points) lost; t=0.3: exact;
+    # t=0.8: clusters {0.1..0.6} and {0.9}: 3 of 6 points matched.
+    assert_allclose(display.errors, [[2 / 6], [0.0], [3 / 6]])
+    assert_allclose(display.line_.get_ydata(), [2 / 6, 0.0, 3 / 6])
+    assert_allclose(display.line_.get_xdata(), [-0.5, 0.3, 0.8])
+    assert display.ax_.get_xlabel() == "threshold"
+
+
+def test_error_curve_fits_on_the_requested_missing_fractions():
+    X = np.random.RandomState(0).uniform(size=(200, 10))
+    y = (X[:, 0] > 0.5).astype(int)
+    _Threshold.fitted_on.clear()
+    display = ErrorCurveDisplay.from_estimator(
+        _Threshold(0.5),
+        X,
+        y,
+        param_name="missing_fraction",
+        param_values=[0.0, 0.2, 0.4],
+        n_repeats=3,
+        missing_pattern="random",
+        random_state=0,
+    )
+    assert_allclose(_Threshold.fitted_on, np.repeat([0.0, 0.2, 0.4], 3), atol=0.02)
+    assert_allclose(display.errors[0], 0.0)
+    assert np.all(display.errors[1:] > 0)  # points with x_1 missing fall to 0
+    band = display.fill_between_.get_paths()[0].vertices[:, 1]
+    assert_allclose(band.min(), display.errors.min(axis=1).min())
+    assert_allclose(band.max(), display.errors.max(axis=1).max())
+
+
+def _two_groups_with_errors():
+    rng = np.random.RandomState(0)
+    X = rng.uniform(0, 100, size=(10, 8))
+    X[4, 6:] = np.nan  # last frame of trajectory 4 missing
+    y_true = np.array([0, 0, 0, 0, 0, 1, 1, 1, 1, 1])
+    labels = np.array([7, 7, 7, 7, 3, 3, 3, 3, 3, 7])
+    return X, y_true, labels
+
+
+def test_trajectory_display_marks_exactly_the_misclassified_tracks():
+    X, y_true, labels = _two_groups_with_errors()
+    display = TrajectoryDisplay.from_predictions(X, labels, y_true=y_true)
+    # 7 -> 0 (4 points), 3 -> 1 (4 points): trajectories 4 and 9 are wrong.
+    expected = np.zeros(10, dtype=bool)
+    expected[[4, 9]] = True
+    np.testing.assert_array_equal(display.misclassified, expected)
+    np.testing.assert_array_equal(display.labels, [0, 0, 0, 0, 1, 1, 1, 1, 1, 0])
+    crosses = display.ax_.collections[-1]
+    assert crosses.get_label() == "misclassified (2)"
+    # crosses at the last observed point: frame 3 for track 4, frame 4 for 9
+    assert_allclose(crosses.get_offsets(), [X[4, 4:6], X[9, 6:8]])
+
+
+def test_trajectory_display_draws_each_group_s_tracks():
+    X, y_true, _ = _two_groups_with_errors()
+    display = TrajectoryDisplay(X, y_true).plot()
+    tracks = X.reshape(10, 4, 2)
+    for k, collection in enumerate(display.lines_):
+        segments = collection.get_segments()
+        members = tracks[y_true == k]
+        assert len(segments) == len(members)
+        for segment, track in zip(segments, members, strict=True):
+            # a missing frame ends the drawn line
+            assert_allclose(segment, track[~np.isnan(track).any(axis=1)])
+
+
+def test_trajectory_display_y_true_of_the_wrong_length():
+    X, y_true, labels = _two_groups_with_errors()
+    with pytest.raises(ValueError, match="y_true has 9 entries for 10 trajectories"):
+        TrajectoryDisplay.from_predictions(X, labels, y_true=y_true[:-1])
+    with pytest.raises(ValueError, match="labels has 11 entries for 10 trajectories"):
+        TrajectoryDisplay.from_predictions(X, np.r_[labels, 0], y_true=y_true)
+
+
+def test_trajectory_display_noise_label():
+    X, y_true, labels = _two_groups_with_errors()
+    y_true = y_true.copy()
+    y_true[[0, 5]] = -1  # two true outliers
+    labels = labels.copy()
+    labels[[0, 1]] = -1  # flags outlier 0 (right) and inlier 1 (wrong)
+    display = TrajectoryDisplay.from_predictions(X, labels, y_true=y_true)
+    # wrong: 1 (an inlier flagged), 4 and 9 (swapped), 5 (an outlier in a motion)
+    np.testing.assert_array_equal(np.flatnonzero(display.misclassified), [1, 4, 5, 9])
+    assert display.labels[0] == display.labels[1] == -1
+    legend = [t.get_text() for t in display.ax_.get_legend().get_texts()]
+    assert legend[0] == "outliers (-1)"
+    grey = display.lines_[0].get_colors()[0]
+    assert_allclose(grey[:3], mpl.colors.to_rgb("0.5"))
+
+
+def test_similarity_display_order_and_blocks_hand_computed():
+    S = np.array(
+        [
+            [1.0, 0.1, 0.9, 0.2],
+            [0.1, 1.0, 0.3, 0.8],
+            [0.9, 0.3, 1.0, 0.4],
+            [0.2, 0.8, 0.4, 1.0],
+        ]
+    )
+    display = SimilarityMatrixDisplay.from_predictions(S, [1, 0, 1, 0])
+    np.testing.assert_array_equal(display.order_, [1, 3, 0, 2])
+    assert_allclose(
+        display.im_.get_array(),
+        [
+            [1.0, 0.8, 0.1, 0.3],
+            [0.8, 1.0, 0.2, 0.4],
+            [0.1, 0.2, 1.0, 0.9],
+            [0.3, 0.4, 0.9, 1.0],
+        ],
+    )
+    lines = display.ax_.get_lines()
+    assert [line.get_ydata()[0] for line in lines[0::2]] == [1.5]
+    assert [line.get_xdata()[0] for line in lines[1::2]] == [1.5]
+    with pytest.raises(ValueError, match="labels has 3 entries"):
+        SimilarityMatrixDisplay.from_predictions(S, [0, 1, 0])

@@ -51,7 +51,9 @@ print(f"{title}: {X.shape[0]} tracks, {X.shape[1] // 2} frames, {n} motions")
 # %%
 # Pixel coordinates are used for the picture: the same affine map of every
 # frame keeps each motion a linear subspace (its translation is part of M).
-fig, axes = plt.subplots(1, 2, figsize=(11, 4.5), sharex=True, sharey=True)
+fig, axes = plt.subplots(
+    1, 2, figsize=(11, 5.2), sharex=True, sharey=True, layout="constrained"
+)
 models = {
     "default pipeline": make_pipeline(
         PowerFactorization(random_state=0), GPCAClustering(n, random_state=0)
@@ -64,5 +66,7 @@ for ax, (name, model) in zip(axes, models.items(), strict=True):
     TrajectoryDisplay.from_predictions(
         X, labels, y_true=y, ax=ax, title=f"{name}: {100 * error:.1f} % wrong"
     )
+    # below the tracks, not over them
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.14), ncol=2, fontsize=9)
 fig.suptitle(f"Hopkins155 sequence {title}" if folder else "Synthetic motions")
 plt.show()

@@ -1,15 +1,16 @@
-"""
+r"""
 ===============================================================
 Figure 2: shape interaction matrices and the GPCA similarity
 ===============================================================
 
 The paper's Figure 2 contrasts the Costeira-Kanade shape interaction matrix
-``Q = V V^T`` (equations (2)-(3)), computed from the rank-``r`` SVD of the
-trajectories, with the GPCA similarity ``S_ij = cos^2`` of the angle between
-the normals. ``Q`` is block diagonal only for *independent* motions and the
-right rank; here two bodies share their rotation (partially dependent
-motions), so ``|Q|`` leaks between the blocks at every rank, while the GPCA
-similarity is block diagonal. Rows and columns are ordered by the true motion.
+:math:`Q = V V^\top` (equations (2)-(3)), computed from the rank-:math:`r` SVD
+of the trajectories, with the GPCA similarity
+:math:`S_{ij} = \cos^2\theta_{ij}` of the angle between the normals. :math:`Q`
+is block diagonal only for *independent* motions and the right rank; here two
+bodies share their rotation (partially dependent motions), so :math:`|Q|`
+leaks between the blocks at every rank, while the GPCA similarity is block
+diagonal. Rows and columns are ordered by the true motion.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -25,7 +26,7 @@ X, y = make_motions(
     2, n_points=[80, 80], n_frames=8, dependent="rotation", noise=0.5, random_state=0
 )
 
-fig, axes = plt.subplots(1, 4, figsize=(15, 3.8))
+fig, axes = plt.subplots(1, 4, figsize=(15, 4.2), layout="constrained")
 for ax, rank in zip(axes[:3], (4, 6, 8), strict=True):
     Q = np.abs(shape_interaction_matrix(X, rank))
     SimilarityMatrixDisplay.from_predictions(
@@ -46,5 +47,4 @@ gpca = GPCAClustering(
 SimilarityMatrixDisplay.from_estimator(
     gpca, y=y, ax=axes[3], title="GPCA cos² similarity"
 )
-fig.tight_layout()
 plt.show()

@@ -3,7 +3,7 @@
 Choosing the number of motions and the rank
 =====================================================
 
-``GridSearchCV`` over ``gpcaclustering__n_clusters`` and
+:class:`~sklearn.model_selection.GridSearchCV` over ``gpcaclustering__n_clusters`` and
 ``powerfactorization__n_components``. Without ground truth the pipeline's own
 ``score`` (``GPCAClustering.score``: a penalised log-likelihood of the sine
 distances of held-out trajectories to the fitted subspaces) selects the

@@ -37,7 +37,7 @@ models = {
     ),
 }
 
-fig, ax = plt.subplots(figsize=(7, 4.5))
+fig, ax = plt.subplots(figsize=(10, 4.5), layout="constrained")
 with warnings.catch_warnings():
     warnings.simplefilter("ignore")  # ConvergenceWarning on heavy occlusion
     for name, model in models.items():
@@ -54,4 +54,6 @@ with warnings.catch_warnings():
         )
         print(f"{name}: {display.errors.mean(axis=1).round(3)}")
 ax.set_title("Two motions, 120 tracks, 8 frames, occlusions")
+# beside the curves, not over them
+ax.legend(loc="upper left", bbox_to_anchor=(1.02, 1), fontsize=9)
 plt.show()

@@ -1,15 +1,15 @@
-"""
+r"""
 ============================================
 Segmenting synthetic motions with a pipeline
 ============================================
 
 Three rigid bodies seen by an affine camera over 10 frames, a fifth of the
 point-frames lost to occlusions. ``make_pipeline(PowerFactorization(),
-GPCAClustering(3))`` projects the incomplete trajectories onto ``R^5`` and
-segments them; the left panel shows the tracks coloured by the segmentation
-(crosses mark the misclassified ones), the right panel the same points in the
-first three projected coordinates, where every motion is a linear subspace
-through the origin.
+GPCAClustering(3))`` projects the incomplete trajectories onto
+:math:`\mathbb{R}^5` and segments them; the left panel shows the tracks
+coloured by the segmentation (crosses mark the misclassified ones), the right
+panel the same points in the first three projected coordinates, where every
+motion is a linear subspace through the origin.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -49,8 +49,9 @@ TrajectoryDisplay.from_predictions(X, labels, y_true=y, ax=ax, title="Tracks")
 Z = pipeline[0].transform(X)
 Z = Z / np.linalg.norm(Z, axis=1, keepdims=True)
 ax3d = fig.add_subplot(1, 2, 2, projection="3d")
+# coloured by true motion: the colours of the tracks on the left
 for k in range(3):
-    ax3d.scatter(*Z[labels == k, :3].T, s=6, label=f"motion {k}")
-ax3d.set_title("Projected trajectories (first 3 of 5 coordinates)")
+    ax3d.scatter(*Z[y == k, :3].T, s=6, label=f"motion {k}")
+ax3d.set_title("Projected trajectories by true motion\n(first 3 of 5 coordinates)")
 ax3d.legend(fontsize="small")
 plt.show()

@@ -10,6 +10,7 @@ from sklearn_gpca.datasets._hopkins155 import (
 from sklearn_gpca.datasets._lowrank import load_lowrank
 from sklearn_gpca.datasets._missing import make_missing
 from sklearn_gpca.datasets._motions import make_motions, make_transparent
+from sklearn_gpca.datasets._tracks import make_tracks
 
 __all__ = [
     "fetch_hopkins155",
@@ -18,5 +19,6 @@ __all__ = [
     "load_lowrank",
     "make_missing",
     "make_motions",
+    "make_tracks",
     "make_transparent",
 ]

@@ -13,9 +13,10 @@ from pathlib import Path
 
 import numpy as np
 import scipy.io
-from sklearn.datasets import get_data_home
 from sklearn.utils import Bunch
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
+
+from sklearn_gpca.datasets._home import default_data_home
 
 HOPKINS155_URL = "http://www.vision.jhu.edu/data/hopkins155/Hopkins155.zip"
 
@@ -69,11 +70,6 @@ def hopkins155_category(name):
     return None
 
 
-def _default_data_home():
-    env = os.environ.get("SKLEARN_GPCA_DATA")
-    return Path(env) if env else Path(get_data_home())
-
-
 def _truth_file(folder):
     return folder / f"{folder.name}_truth.mat"
 
@@ -89,7 +85,7 @@ def _sequence_dirs(folder):
 
 def _resolve_hopkins155_home(data_home):
     """Folder holding the sequences, or None; plus the folder searched."""
-    base = _default_data_home() if data_home is None else Path(data_home)
+    base = default_data_home() if data_home is None else Path(data_home)
     base = base.expanduser()
     for candidate in (base / "hopkins155", base / "Hopkins155", base):
         sequences = _sequence_dirs(candidate)
@@ -138,6 +134,25 @@ def _read_sequence(path):
             f"(3, n_points, n_frames), got {x.shape} and {y.shape}."
         )
     _, n_points, n_frames = x.shape
+    if n_points == 0 or n_frames == 0:
+        raise ValueError(
+            f"Malformed Hopkins155 file {path}: no "
+            f"{'points' if n_points == 0 else 'frames'} (x has shape {x.shape})."
+        )
+    for key, points in (("x", x), ("y", y)):
+        n_bad = np.sum(~np.isfinite(points[:2]))
+        if n_bad:
+            raise ValueError(
+                f"Malformed Hopkins155 file {path}: {key!r} holds {n_bad} NaN or "
+                f"infinite value{'s' if n_bad > 1 else ''}; Hopkins155 "
+                "trajectories are complete."
+            )
+    fractional = s[s != np.round(s)] if s.dtype.kind == "f" else s[:0]
+    if fractional.size:
+        raise ValueError(
+            f"Malformed Hopkins155 file {path}: 's' holds {fractional.flat[0]:g}; "
+            "labels must be integers."
+        )
     labels = s.ravel().astype(np.int64)
     if labels.shape[0] != n_points or labels.min(initial=1) < 1:
         raise ValueError(
@@ -393,7 +408,7 @@ def fetch_hopkins155(
             raise OSError(
                 f"Hopkins155 not found in {folder} and download_if_missing=False."
             )
-        base = _default_data_home() if data_home is None else Path(data_home)
+        base = default_data_home() if data_home is None else Path(data_home)
         base = base.expanduser()
         base.mkdir(parents=True, exist_ok=True)
         with tempfile.TemporaryDirectory(dir=base) as tmp:

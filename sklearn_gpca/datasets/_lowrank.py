@@ -8,22 +8,22 @@ from pathlib import Path
 import numpy as np
 import scipy.io
 import scipy.sparse
-from sklearn.datasets import get_data_home
 from sklearn.utils import Bunch
 from sklearn.utils._param_validation import validate_params
+
+from sklearn_gpca.datasets._home import default_data_home
 
 
 def _lowrank_home(data_home):
     if data_home is None:
-        env = os.environ.get("SKLEARN_GPCA_DATA")
-        data_home = Path(env) if env else Path(get_data_home())
+        data_home = default_data_home()
     data_home = Path(data_home).expanduser()
     return data_home / "lowrank" if (data_home / "lowrank").is_dir() else data_home
 
 
 def _find_file(name_or_path, data_home):
     path = Path(name_or_path).expanduser()
-    if path.suffix == ".mat":
+    if path.suffix.lower() == ".mat":
         if not path.is_file():
             raise FileNotFoundError(f"No such .mat file: {path}.")
         return path
@@ -38,9 +38,15 @@ def _find_file(name_or_path, data_home):
         path = folder / f"{folder.name.lower()}.mat"
         if path.is_file():
             return path
-        mats = sorted(folder.glob("*.mat"))
+        mats = sorted(p for p in folder.iterdir() if p.suffix.lower() == ".mat")
         if len(mats) == 1:
             return mats[0]
+        if not mats:
+            raise FileNotFoundError(f"{folder} holds no .mat file.")
+        raise ValueError(
+            f"{folder} holds several .mat files ({', '.join(p.name for p in mats)})"
+            "; pass the path of one of them."
+        )
     if not folders:
         raise FileNotFoundError(
             f"No low-rank datasets (<Name>/<name>.mat) found in {home}; pass "

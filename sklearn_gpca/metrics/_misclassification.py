@@ -8,14 +8,42 @@ import numpy as np
 from scipy.optimize import linear_sum_assignment
 from sklearn.metrics import get_scorer as _sklearn_get_scorer
 from sklearn.metrics import make_scorer
-from sklearn.utils._param_validation import validate_params
+from sklearn.utils._param_validation import StrOptions, validate_params
+
+#: The label of points that belong to no motion (as DBSCAN and HDBSCAN).
+NOISE = -1
+
+
+def noise_mask(labels):
+    """Where ``labels`` hold the noise label ``-1`` (numeric labels only)."""
+    labels = np.asarray(labels)
+    if labels.dtype.kind not in "iuf":
+        return np.zeros(labels.shape, dtype=bool)
+    return labels == NOISE
+
+
+def _n_matched(y_true, y_pred):
+    """Most points on which ``y_pred``, renamed one-to-one, agrees with
+    ``y_true`` (the Hungarian algorithm on the contingency matrix)."""
+    if y_true.size == 0:
+        return 0
+    _, true_idx = np.unique(y_true, return_inverse=True)
+    _, pred_idx = np.unique(y_pred, return_inverse=True)
+    contingency = np.zeros((true_idx.max() + 1, pred_idx.max() + 1), dtype=np.int64)
+    np.add.at(contingency, (true_idx, pred_idx), 1)
+    rows, cols = linear_sum_assignment(contingency, maximize=True)
+    return int(contingency[rows, cols].sum())
 
 
 @validate_params(
-    {"y_true": ["array-like"], "y_pred": ["array-like"]},
+    {
+        "y_true": ["array-like"],
+        "y_pred": ["array-like"],
+        "noise": [StrOptions({"class", "ignore"})],
+    },
     prefer_skip_nested_validation=True,
 )
-def misclassification_rate(y_true, y_pred):
+def misclassification_rate(y_true, y_pred, *, noise="class"):
     """Fraction of points misclassified under the best matching of labels.
 
     Clustering labels are arbitrary names, so the predicted clusters are first
@@ -25,20 +53,43 @@ def misclassification_rate(y_true, y_pred):
     misclassification error reported for motion segmentation (Vidal & Hartley
     2004, Table 1; the Hopkins155 benchmark).
 
+    The label ``-1`` marks noise (outlier trajectories), as in
+    :class:`~sklearn.cluster.DBSCAN` and :class:`~sklearn.cluster.HDBSCAN`.
+    It is a name with a meaning, so it is never renamed: a point is right
+    as noise only where both labels are ``-1``, a true outlier put in a
+    motion is an error, and so is an inlier flagged as noise.
+
     Parameters
     ----------
     y_true : array-like of shape (n_samples,)
-        Ground-truth labels (any hashable values of one type; an outlier
-        label such as ``-1`` is treated as one more group).
+        Ground-truth labels (any hashable values of one type; ``-1`` is
+        noise for numeric labels).
 
     y_pred : array-like of shape (n_samples,)
-        Predicted cluster labels.
+        Predicted cluster labels (``-1`` is noise for numeric labels).
+
+    noise : {"class", "ignore"}, default="class"
+        How points whose true label is ``-1`` are scored.
+
+        - ``"class"``: they count, as a class that is never renamed; the
+          rate then also charges outliers assigned to a motion.
+        - ``"ignore"``: they are left out, and the rate is over the true
+          inliers only (an inlier predicted ``-1`` still counts as an
+          error). This is the misclassification of the inliers that the
+          motion-segmentation literature reports beside a separate score of
+          the outlier detection (Rao et al. 2010).
 
     Returns
     -------
     rate : float
         Misclassification rate in ``[0, 1]``; ``0.0`` for a perfect
         segmentation up to a renaming of the labels.
+
+    Raises
+    ------
+    ValueError
+        If the labels are not 1-D, differ in length or are empty, or if
+        ``noise="ignore"`` leaves no point.
 
     See Also
     --------
@@ -48,15 +99,23 @@ def misclassification_rate(y_true, y_pred):
     Notes
     -----
     With contingency matrix :math:`C_{ij} = |\\{p : y^{true}_p = i,\\;
-    y^{pred}_p = j\\}|` the rate is
+    y^{pred}_p = j\\}|` over the points whose labels are both not noise,
+    and :math:`n_{-1}` the points labelled ``-1`` on both sides, the rate is
 
-    .. math:: 1 - \\frac{1}{n} \\max_{\\sigma} \\sum_i C_{i \\sigma(i)}
+    .. math:: 1 - \\frac{1}{n} \\left(n_{-1} + \\max_{\\sigma} \\sum_i
+       C_{i \\sigma(i)}\\right)
 
     over one-to-one partial matchings :math:`\\sigma` between true and
     predicted labels, solved exactly with
     :func:`scipy.optimize.linear_sum_assignment`. The numbers of clusters may
     differ: points of clusters left unmatched on either side count as
     misclassified, so splitting a group or merging two groups is penalised.
+
+    References
+    ----------
+    .. [1] S. Rao, R. Tron, R. Vidal and Y. Ma, "Motion segmentation in the
+       presence of outlying, incomplete, or corrupted trajectories", IEEE
+       TPAMI 32(10), 2010.
 
     Examples
     --------
@@ -67,6 +126,14 @@ def misclassification_rate(y_true, y_pred):
     0.1667
     >>> round(misclassification_rate([0, 0, 1, 1, 2, 2], [0, 0, 1, 1, 1, 1]), 4)
     0.3333
+
+    An outlier (``-1``) put in a motion is an error, unless outliers are
+    left out:
+
+    >>> misclassification_rate([-1, 0, 0, 1, 1], [1, 0, 0, 1, 1])
+    0.2
+    >>> misclassification_rate([-1, 0, 0, 1, 1], [1, 0, 0, 1, 1], noise="ignore")
+    0.0
     """
     y_true = np.asarray(y_true)
     y_pred = np.asarray(y_pred)
@@ -80,16 +147,22 @@ def misclassification_rate(y_true, y_pred):
             "y_true and y_pred must have the same length, got "
             f"{y_true.shape[0]} and {y_pred.shape[0]}."
         )
-    n_samples = y_true.shape[0]
-    if n_samples == 0:
+    if y_true.shape[0] == 0:
         raise ValueError("y_true and y_pred are empty; need at least 1 label.")
-    _, true_idx = np.unique(y_true, return_inverse=True)
-    _, pred_idx = np.unique(y_pred, return_inverse=True)
-    contingency = np.zeros((true_idx.max() + 1, pred_idx.max() + 1), dtype=np.int64)
-    np.add.at(contingency, (true_idx, pred_idx), 1)
-    rows, cols = linear_sum_assignment(contingency, maximize=True)
-    n_matched = contingency[rows, cols].sum()
-    return float(1.0 - n_matched / n_samples)
+    true_noise, pred_noise = noise_mask(y_true), noise_mask(y_pred)
+    if noise == "ignore":
+        inliers = ~true_noise
+        if not inliers.any():
+            raise ValueError(
+                "every point of y_true is noise (-1): nothing to score with "
+                "noise='ignore'."
+            )
+        y_true, y_pred = y_true[inliers], y_pred[inliers]
+        true_noise, pred_noise = true_noise[inliers], pred_noise[inliers]
+    both = ~true_noise & ~pred_noise
+    n_right = np.sum(true_noise & pred_noise) + _n_matched(y_true[both], y_pred[both])
+    n_samples = y_true.shape[0]
+    return float((n_samples - n_right) / n_samples)
 
 
 misclassification_scorer = make_scorer(misclassification_rate, greater_is_better=False)
@@ -97,7 +170,10 @@ misclassification_scorer.__doc__ = """Scorer returning minus the misclassificati
 
 Built with ``make_scorer(misclassification_rate, greater_is_better=False)``;
 it calls ``estimator.predict(X)``, so the estimator (a clusterer such as a
-pipeline ending in a fitted clusterer) must implement ``predict``.
+pipeline ending in a fitted clusterer) must implement ``predict``. The noise
+label ``-1`` is scored as in :func:`misclassification_rate`; for the rate on
+the true inliers only, use ``make_scorer(misclassification_rate,
+greater_is_better=False, noise="ignore")``.
 """
 
 _SCORERS = {"neg_misclassification_rate": misclassification_scorer}

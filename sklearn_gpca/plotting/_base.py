@@ -7,6 +7,8 @@ from scipy.optimize import linear_sum_assignment
 from sklearn.exceptions import NotFittedError
 from sklearn.utils.validation import check_is_fitted
 
+from sklearn_gpca.metrics._misclassification import NOISE, noise_mask
+
 
 def check_matplotlib_support(caller_name):
     """Import matplotlib, or raise an ImportError that says how to install it.
@@ -44,6 +46,10 @@ def label_colors(n_labels):
     return list(mpl.colormaps["turbo"](np.linspace(0, 1, n_labels)))
 
 
+#: Colour of the noise label ``-1`` (outlier trajectories): mid grey.
+NOISE_COLOR = "0.5"
+
+
 def encode_labels(labels):
     """Labels as ``0 .. n - 1`` (sorted), and the original values."""
     values, codes = np.unique(np.asarray(labels), return_inverse=True)
@@ -53,20 +59,29 @@ def encode_labels(labels):
 def match_labels(y_true, y_pred):
     """``y_pred`` relabelled to agree best with ``y_true`` (Hungarian matching).
 
-    Both are coded ``0 .. n - 1``; predicted groups without a partner get the
-    codes after the true ones.
+    The motions of ``y_true`` are coded ``0 .. n - 1`` (sorted); predicted
+    groups matched to one of them take its code, the others the codes after.
+    The noise label ``-1`` is never renamed: it stays ``-1`` on both sides,
+    as in :func:`sklearn_gpca.metrics.misclassification_rate`.
     """
-    true, _ = encode_labels(y_true)
-    pred, _ = encode_labels(y_pred)
-    n_true, n_pred = true.max() + 1, pred.max() + 1
+    y_true, y_pred = np.asarray(y_true).ravel(), np.asarray(y_pred).ravel()
+    true_noise, pred_noise = noise_mask(y_true), noise_mask(y_pred)
+    true = np.full(y_true.shape, NOISE, dtype=np.intp)
+    pred = np.full(y_pred.shape, NOISE, dtype=np.intp)
+    true_values, true[~true_noise] = np.unique(y_true[~true_noise], return_inverse=True)
+    pred_values, pred_codes = np.unique(y_pred[~pred_noise], return_inverse=True)
+    n_true, n_pred = true_values.size, pred_values.size
+    pred[~pred_noise] = pred_codes
+    both = ~true_noise & ~pred_noise
     counts = np.zeros((n_pred, n_true), dtype=np.int64)
-    np.add.at(counts, (pred, true), 1)
+    np.add.at(counts, (pred[both], true[both]), 1)
     rows, cols = linear_sum_assignment(-counts)
     mapping = np.empty(n_pred, dtype=np.intp)
     mapping[rows] = cols
     others = np.setdiff1d(np.arange(n_pred), rows)
     mapping[others] = n_true + np.arange(others.size)
-    return mapping[pred], true
+    pred[~pred_noise] = mapping[pred_codes]
+    return pred, true
 
 
 def last_step(estimator):

@@ -5,7 +5,9 @@
 import numpy as np
 from sklearn.utils import check_array
 
+from sklearn_gpca.metrics._misclassification import noise_mask
 from sklearn_gpca.plotting._base import (
+    NOISE_COLOR,
     check_matplotlib_support,
     cluster_labels,
     encode_labels,
@@ -38,7 +40,8 @@ class TrajectoryDisplay:
     X : ndarray of shape (n_samples, 2 * n_frames)
         Trajectories, one per row, NaN for missing entries.
     labels : ndarray of shape (n_samples,)
-        Label of each trajectory.
+        Label of each trajectory; ``-1`` (noise, outlier trajectories) is
+        drawn in grey as "outliers (-1)".
     misclassified : ndarray of shape (n_samples,), dtype=bool, default=None
         Trajectories to mark as wrong (black crosses at their last point).
 
@@ -127,10 +130,16 @@ class TrajectoryDisplay:
             raise ValueError(
                 f"labels has {codes.shape[0]} entries for {X.shape[0]} trajectories."
             )
-        colors = label_colors(values.size)
+        is_noise = noise_mask(values)
+        motion_colors = iter(label_colors(int(np.sum(~is_noise))))
+        colors = [NOISE_COLOR if noise else next(motion_colors) for noise in is_noise]
+        names = [
+            "outliers (-1)" if noise else f"motion {value}"
+            for value, noise in zip(values, is_noise, strict=True)
+        ]
         fig, ax = get_axes(ax)
         self.lines_ = []
-        for k, value in enumerate(values):
+        for k in range(values.size):
             members = tracks[codes == k]
             if kind == "tracks":
                 artist = LineCollection(
@@ -138,7 +147,7 @@ class TrajectoryDisplay:
                     colors=[colors[k]],
                     linewidths=0.8,
                     alpha=0.8,
-                    label=f"motion {value}",
+                    label=names[k],
                 )
                 ax.add_collection(artist)
                 ends = np.array([_last_observed(track) for track in members]).reshape(
@@ -157,7 +166,7 @@ class TrajectoryDisplay:
                     scale_units="xy",
                     scale=1,
                     width=0.003,
-                    label=f"motion {value}",
+                    label=names[k],
                 )
             self.lines_.append(artist)
         if self.misclassified is not None and np.any(self.misclassified):
@@ -203,7 +212,10 @@ class TrajectoryDisplay:
         y_true : array-like of shape (n_samples,), default=None
             Ground truth. If given, ``labels`` are matched to it (optimal
             assignment) so that colours agree, and the misclassified
-            trajectories are marked.
+            trajectories are marked, with the rule of
+            :func:`~sklearn_gpca.metrics.misclassification_rate`: the noise
+            label ``-1`` is never renamed, so a true outlier is right only as
+            ``-1`` and an inlier labelled ``-1`` is wrong.
         ax : matplotlib Axes, default=None
             Axes to draw on; None creates a figure.
         **kwargs : dict
@@ -215,7 +227,14 @@ class TrajectoryDisplay:
         display : TrajectoryDisplay
         """
         check_matplotlib_support(f"{cls.__name__}.from_predictions")
+        n_samples = _check_trajectories(X).shape[0]
         labels = np.asarray(labels).ravel()
+        for name, values in (("labels", labels), ("y_true", y_true)):
+            if values is not None and len(np.ravel(values)) != n_samples:
+                raise ValueError(
+                    f"{name} has {len(np.ravel(values))} entries for {n_samples} "
+                    "trajectories."
+                )
         misclassified = None
         if y_true is not None:
             labels, true = match_labels(y_true, labels)
