@@ -9,8 +9,10 @@ scikit-learn compatible estimators implementing and extending Vidal & Hartley,
 
 from sklearn_gpca._gpca import GPCAClustering
 from sklearn_gpca._motion import estimate_motions
+from sklearn_gpca._motion_segmentation import MotionSegmentation
 from sklearn_gpca._pipeline import paper_pipeline
 from sklearn_gpca._power_factorization import PowerFactorization
+from sklearn_gpca._segment import segment_motions
 from sklearn_gpca._shape_interaction import (
     ShapeInteractionClustering,
     shape_interaction_matrix,
@@ -20,10 +22,12 @@ __version__ = "0.1.0.dev0"
 
 __all__ = [
     "GPCAClustering",
+    "MotionSegmentation",
     "PowerFactorization",
     "ShapeInteractionClustering",
     "__version__",
     "estimate_motions",
     "paper_pipeline",
+    "segment_motions",
     "shape_interaction_matrix",
 ]

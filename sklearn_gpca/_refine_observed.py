@@ -68,7 +68,8 @@ def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=Tr
     residuals, dofs : ndarray of shape (n_samples, n_clusters)
         From :func:`subspace_residuals`.
     labels : ndarray of shape (n_samples,)
-        Current labels, which set ``s_k``.
+        Current labels, which set ``s_k``; tracks labelled ``-1`` (outliers)
+        are left out of the scales.
     n_clusters : int, default=None
         Number of labels (``residuals.shape[1]``).
     per_cluster : bool, default=True
@@ -84,8 +85,8 @@ def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=Tr
     per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
     evidence = dofs.max(axis=1)
     has = evidence > 0
-    own = per_dof[np.arange(n_samples), labels]
-    usable = has & np.isfinite(own)
+    own = per_dof[np.arange(n_samples), np.maximum(labels, 0)]
+    usable = has & np.isfinite(own) & (labels >= 0)
     overall = float(np.median(own[usable])) if usable.any() else 1.0
     overall = max(overall, _TINY)
     scales = np.full(n_clusters, overall)
@@ -100,6 +101,45 @@ def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=Tr
     return costs
 
 
+def misfit_ratios(residuals, dofs, labels):
+    """Each track's smallest misfit to a motion, relative to the motion's own.
+
+    With ``rho_pk = r_pk / dof_pk`` the residual per degree of freedom of
+    track ``p`` to the subspace of motion ``k`` and ``s_k`` its median over
+    the tracks of ``k`` (``labels == k``; outliers ``-1`` left out), returns
+    ``min_k rho_pk / s_k``: a distribution-free statistic (the misfit of
+    real motions is not Gaussian: perspective bends long tracks more), ``0``
+    for a track without any residual degree of freedom (it cannot be
+    tested).
+
+    Parameters
+    ----------
+    residuals, dofs : ndarray of shape (n_samples, n_clusters)
+        From :func:`subspace_residuals`.
+    labels : ndarray of shape (n_samples,)
+        Motion of each track, ``-1`` for a track left out of the medians.
+
+    Returns
+    -------
+    ratios : ndarray of shape (n_samples,)
+    """
+    n_clusters = residuals.shape[1]
+    testable = dofs > 0
+    per_dof = np.where(testable, residuals / np.maximum(dofs, 1), np.nan)
+    pooled = per_dof[np.arange(labels.size), np.maximum(labels, 0)]
+    pooled = pooled[(labels >= 0) & np.isfinite(pooled)]
+    fallback = float(np.median(pooled)) if pooled.size else 1.0
+    scales = np.empty(n_clusters)
+    for k in range(n_clusters):
+        mine = per_dof[labels == k, k]
+        mine = mine[np.isfinite(mine)]
+        scales[k] = float(np.median(mine)) if mine.size >= 3 else fallback
+    ratios = np.where(testable, per_dof / np.maximum(scales, _TINY), np.inf)
+    ratios = ratios.min(axis=1)
+    ratios[~testable.any(axis=1)] = 0.0
+    return ratios
+
+
 def refine_observed(
     X0,
     mask,
@@ -112,6 +152,7 @@ def refine_observed(
     neighbor_weights=None,
     per_cluster=True,
     max_iter=30,
+    outlier_threshold=None,
     random_state,
 ):
     """Smoothed K-subspaces on observed entries, from initial labels.
@@ -142,12 +183,19 @@ def refine_observed(
         :func:`assignment_costs`).
     max_iter : int, default=30
         Maximum number of fit / assign rounds.
+    outlier_threshold : float > 0 or None, default=None
+        Tracks whose residual per degree of freedom to every motion exceeds
+        ``outlier_threshold`` times that motion's median
+        (:func:`misfit_ratios`) are labelled ``-1`` and left out of the
+        subspace fits and the scales of the next round. None labels every
+        track with a motion.
     random_state : RandomState instance
         Reseeds a cluster too small to fit its subspace.
 
     Returns
     -------
     labels : ndarray of shape (n_samples,), dtype=intp
+        ``-1`` for the outliers (only with ``outlier_threshold``).
     bases : list of ndarray of shape (n_features, d_k)
     supports : list of ndarray of shape (n_features,), dtype=bool
     n_iter : int
@@ -156,6 +204,7 @@ def refine_observed(
     """
     labels = np.asarray(labels, dtype=np.intp).copy()
     n_samples = X0.shape[0]
+    outliers = np.zeros(n_samples, dtype=bool)
     dims = np.broadcast_to(np.asarray(subspace_dim, dtype=np.intp), (n_clusters,))
     bases = [None] * n_clusters
     supports = [None] * n_clusters
@@ -165,7 +214,7 @@ def refine_observed(
     while n_iter < max_iter:
         n_iter += 1
         for k in range(n_clusters):
-            members = np.flatnonzero(labels == k)
+            members = np.flatnonzero((labels == k) & ~outliers)
             if members.size <= dims[k]:
                 members = random_state.choice(n_samples, dims[k] + 1, replace=False)
             init = bases[k]
@@ -177,14 +226,20 @@ def refine_observed(
                 max_iter=5 if init is not None else 30,
             )
         residuals, dofs = subspace_residuals(X0, mask, bases, supports)
-        costs = assignment_costs(residuals, dofs, labels, per_cluster=per_cluster)
+        marked = np.where(outliers, -1, labels)
+        costs = assignment_costs(residuals, dofs, marked, per_cluster=per_cluster)
         if smoothing > 0:
             costs = costs + smoothing * neighbor_disagreements(
                 labels, neighbors, n_clusters, neighbor_weights
             )
         new_labels = np.argmin(costs, axis=1).astype(np.intp)
-        if np.array_equal(new_labels, labels) or np.array_equal(new_labels, previous):
+        new_outliers = outliers
+        if outlier_threshold is not None:
+            new_outliers = misfit_ratios(residuals, dofs, marked) > outlier_threshold
+        if np.array_equal(new_outliers, outliers) and (
+            np.array_equal(new_labels, labels) or np.array_equal(new_labels, previous)
+        ):
             converged = True
             break
-        previous, labels = labels, new_labels
-    return labels, bases, supports, n_iter, converged
+        previous, labels, outliers = labels, new_labels, new_outliers
+    return np.where(outliers, -1, labels), bases, supports, n_iter, converged

@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 from sklearn.neighbors import NearestNeighbors
 
+from sklearn_gpca import MotionSegmentation
 from sklearn_gpca._fragments import absorb_small_fragments, merge_fragments
 from sklearn_gpca._hypotheses import (
     hypothesis_residuals,
@@ -21,9 +22,9 @@ from sklearn_gpca._observed_subspaces import (
     observed_entries,
     row_fits,
 )
-from sklearn_gpca._refine_observed import refine_observed
+from sklearn_gpca._refine_observed import misfit_ratios, refine_observed
 from sklearn_gpca._segment import segment_motions
-from sklearn_gpca._selection import coding_length
+from sklearn_gpca._segment_selection import coding_length
 from sklearn_gpca._track_neighbors import track_neighbors
 from sklearn_gpca.datasets import make_motions
 from sklearn_gpca.metrics import misclassification_rate
@@ -265,3 +266,85 @@ def test_segment_motions_invariances(seed, scale):
     assert misclassification_rate(y[order], permuted) < 0.03
     doubled = segment_motions(np.vstack([X, X]), 2, init="fragments", random_state=0)
     assert misclassification_rate(np.r_[y, y], doubled) < 0.03
+
+
+# --- outliers ---------------------------------------------------------------
+
+
+def test_misfit_ratios_match_definition():
+    rng = np.random.RandomState(0)
+    residuals = rng.rand(9, 2) + 0.1
+    dofs = rng.randint(1, 6, size=(9, 2))
+    dofs[8] = 0  # cannot be tested
+    labels = np.array([0, 0, 0, 0, 1, 1, 1, 1, -1])
+    per_dof = residuals / np.maximum(dofs, 1)
+    scales = [np.median(per_dof[:4, 0]), np.median(per_dof[4:8, 1])]
+    expected = np.min(per_dof / scales, axis=1)
+    expected[8] = 0.0
+    assert_allclose(misfit_ratios(residuals, dofs, labels), expected)
+
+
+def _with_outliers(n_outliers=20, seed=0):
+    """Draw of two motions apart in the image, plus random-walk tracks."""
+    X, y = _draw(missing=0.2, sizes=(150, 50), apart=True, seed=seed)
+    rng = np.random.RandomState(seed)
+    n_frames = X.shape[1] // 2
+    steps = rng.normal(scale=10.0, size=(n_outliers, n_frames, 2))
+    walks = np.cumsum(steps, axis=1).reshape(n_outliers, -1)
+    walks += np.nanmean(X, axis=0)  # among the tracks, not off to one side
+    return np.vstack([X, walks]), np.r_[y, np.full(n_outliers, -1)]
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_segment_motions_flags_outliers(seed):
+    X, y = _with_outliers(seed=seed)
+    plain = segment_motions(X, 2, random_state=0)
+    assert plain.min() == 0  # no -1 unless asked
+    labels = segment_motions(X, 2, outlier_threshold=20.0, random_state=0)
+    flagged, outliers = labels == -1, y == -1
+    assert np.sum(flagged & outliers) >= 0.9 * outliers.sum()
+    assert np.sum(flagged & outliers) >= 0.9 * flagged.sum()
+    inliers = ~outliers
+    assert misclassification_rate(y[inliers], labels[inliers]) < 0.03
+
+
+def test_segment_motions_one_motion_with_outliers():
+    X, y = _with_outliers()
+    X, y = X[y != 1], y[y != 1]
+    labels = segment_motions(X, 1, outlier_threshold=20.0, random_state=0)
+    assert set(labels) <= {-1, 0}
+    assert np.array_equal(labels == -1, y == -1)
+    assert np.all(segment_motions(X, 1, random_state=0) == 0)
+
+
+# --- estimator --------------------------------------------------------------
+
+
+def test_estimator_matches_function_on_nan_and_masked():
+    X, y = _draw(missing=0.3, apart=True)
+    expected = segment_motions(X, 3, random_state=0)
+    estimator = MotionSegmentation(3, random_state=0).fit(X)
+    assert np.array_equal(estimator.labels_, expected)
+    assert estimator.n_features_in_ == X.shape[1]
+    assert estimator.chosen_ in estimator.candidates_
+    assert estimator.coding_lengths_.shape == (len(estimator.candidates_),)
+    masked = np.ma.masked_invalid(X)
+    assert np.array_equal(
+        MotionSegmentation(3, random_state=0).fit_predict(masked), expected
+    )
+    assert misclassification_rate(y, expected) < 0.03
+
+
+@pytest.mark.parametrize(
+    ("X", "params", "match"),
+    [
+        (np.ones((6, 3)), {}, "even number"),
+        (np.ones((2, 4)), {"n_clusters": 3}, "larger than"),
+        (np.full((6, 4), np.inf), {}, "infinite|inf"),
+        (np.ones((6, 4)), {"outlier_threshold": 0.0}, "outlier_threshold"),
+        (np.ones((6, 4)), {"init": "truth"}, "init"),
+    ],
+)
+def test_estimator_bad_input(X, params, match):
+    with pytest.raises(ValueError, match=match):
+        MotionSegmentation(**{"n_clusters": 2, **params}).fit(X)
