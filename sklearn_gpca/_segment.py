@@ -114,6 +114,23 @@ def fragment_candidate(X0, mask, affinity, n_motions, noise, *, random_state):
     return merge_fragments(X0, mask, fragments, n_motions, noise)
 
 
+def projectable(mask):
+    """Tracks and coordinates that ``PowerFactorization`` can take.
+
+    Tracks observing at least ``MIN_PROJECTED_ENTRIES`` coordinates, on the
+    coordinates then seen by at least 5 of them.
+
+    Returns
+    -------
+    rows : ndarray of shape (n_tracks,), dtype=bool
+    cols : ndarray of shape (n_features,), dtype=bool
+    """
+    rows = np.count_nonzero(mask, axis=1) >= MIN_PROJECTED_ENTRIES
+    cols = np.count_nonzero(mask[rows], axis=0) >= 5
+    rows &= np.count_nonzero(mask[:, cols], axis=1) >= MIN_PROJECTED_ENTRIES
+    return rows, cols
+
+
 def gpca_candidate(X, X0, mask, n_motions, *, random_state):
     """Labels from ``PowerFactorization`` + ``GPCAClustering`` (library defaults).
 
@@ -125,9 +142,7 @@ def gpca_candidate(X, X0, mask, n_motions, *, random_state):
     from sklearn_gpca._gpca import GPCAClustering
     from sklearn_gpca._power_factorization import PowerFactorization
 
-    rows = np.count_nonzero(mask, axis=1) >= MIN_PROJECTED_ENTRIES
-    cols = np.count_nonzero(mask[rows], axis=0) >= 5
-    rows &= np.count_nonzero(mask[:, cols], axis=1) >= MIN_PROJECTED_ENTRIES
+    rows, cols = projectable(mask)
     if rows.sum() < max(10, 2 * n_motions) or cols.sum() < 6:
         return None
     seed = random_state.randint(np.iinfo(np.int32).max)
