@@ -22,11 +22,11 @@ import numpy as np
 import scipy.sparse as sp
 from sklearn.cluster import KMeans
 
-from sklearn_gpca._affinity import leading_eigenvectors
 from sklearn_gpca._observed_subspaces import (
     fit_adaptive_subspace,
     subspace_residuals,
 )
+from sklearn_gpca._spectral import leading_eigenvectors
 
 _TINY = np.finfo(np.float64).tiny
 
