@@ -9,6 +9,7 @@ scikit-learn compatible estimators implementing and extending Vidal & Hartley,
 
 from sklearn_gpca._gpca import GPCAClustering
 from sklearn_gpca._motion import estimate_motions
+from sklearn_gpca._perspective import PerspectiveClustering
 from sklearn_gpca._pipeline import paper_pipeline
 from sklearn_gpca._power_factorization import PowerFactorization
 from sklearn_gpca._shape_interaction import (
@@ -20,6 +21,7 @@ __version__ = "0.1.0.dev0"
 
 __all__ = [
     "GPCAClustering",
+    "PerspectiveClustering",
     "PowerFactorization",
     "ShapeInteractionClustering",
     "__version__",
