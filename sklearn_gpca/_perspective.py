@@ -81,7 +81,8 @@ def spectral_embedding_votes(votes, n_components, random_state):
     The leading eigenvectors of ``D^{-1/2} K D^{-1/2}`` are the leading left
     singular vectors of ``D^{-1/2} votes`` (randomized SVD on the sparse
     matrix): time linear in the number of tracks. Rows are scaled to unit
-    norm; a track without degree keeps a zero row.
+    norm. A track without degree has a zero row in ``D^{-1/2} votes``, hence
+    in the singular vectors, and keeps it.
     """
     degrees = kernel_degrees(votes)
     scaled = votes.multiply(1.0 / np.sqrt(np.maximum(degrees, _TINY))[:, None])
@@ -92,7 +93,6 @@ def spectral_embedding_votes(votes, n_components, random_state):
         n_iter=10,
         random_state=random_state,
     )
-    left[degrees <= 0] = 0.0
     norms = np.linalg.norm(left, axis=1, keepdims=True)
     return left / np.maximum(norms, _TINY)
 
