@@ -31,8 +31,8 @@ from sklearn_gpca.metrics import misclassification_rate
 
 PAPER = dict(
     normalize=False,
-    affinity="polynomial",
-    n_neighbors=None,
+    point_normals="one_polynomial",
+    affinity="all_pairs",
     affinity_power=1,
     refine=False,
 )
@@ -42,7 +42,7 @@ CONFIGS = [
     ("paper + unit sphere", {**PAPER, "normalize": True}),
     (
         "paper + unit sphere + several polynomials (section 2.2.4)",
-        {**PAPER, "normalize": True, "affinity": "polynomials"},
+        {**PAPER, "normalize": True, "point_normals": "all_polynomials"},
     ),
     (
         "paper + unit sphere + K-subspaces",
@@ -54,11 +54,11 @@ CONFIGS = [
     ),
     (
         "polynomial normals, kNN graph, power 4",
-        {"affinity": "polynomial", "refine": False, "init": "spectral"},
+        {"point_normals": "one_polynomial", "refine": False, "init": "spectral"},
     ),
     (
         "several polynomials' normals, kNN graph, power 4",
-        {"affinity": "polynomials", "refine": False, "init": "spectral"},
+        {"point_normals": "all_polynomials", "refine": False, "init": "spectral"},
     ),
     (
         "local normals, kNN graph, power 1",
@@ -71,12 +71,15 @@ CONFIGS = [
     ("default with smoothing=10", {"smoothing": 10.0}),
     ("default with n_neighbors=20", {"n_neighbors": 20}),
     ("default with n_neighbors=40", {"n_neighbors": 40}),
-    ("default with affinity='polynomials'", {"affinity": "polynomials"}),
+    (
+        "default with point_normals='all_polynomials'",
+        {"point_normals": "all_polynomials"},
+    ),
     ("default with n_init=3", {"n_init": 3}),
     ("default with random_state=1", {"random_state": 1}),
     (
-        "default with subspace_dim='auto', rank_tol=0.1",
-        {"subspace_dim": "auto", "rank_tol": 0.1},
+        "default with subspace_dim='auto', subspace_dim_tol=0.1",
+        {"subspace_dim": "auto", "subspace_dim_tol": 0.1},
     ),
     (
         "default (local normals, kNN power 4, 6 spectral inits on 3 graphs, "
@@ -87,8 +90,10 @@ CONFIGS = [
 
 NOTES = """\
 Rows other than the paper's inherit the remaining defaults (`normalize=True,
-affinity="local", n_neighbors=30, affinity_power=4, refine=True, smoothing=5.0,
-subspace_dim=None, rank_tol=0.05, init="multi", n_init=10, random_state=0`).
+point_normals="local", affinity="nearest_neighbors", n_neighbors=30,
+affinity_power=4, refine=True, smoothing=5.0, subspace_dim=None,
+normal_tol=0.05, subspace_dim_tol=0.05, init="multi", n_init=10,
+random_state=0`).
 Rows 6-9 isolate the graph (one spectral initialisation, no refinement); row 10
 is the six-candidate initialisation (the `affinity` graph at 30 and 45
 neighbours and its product with the polynomial-normal graph, each split into

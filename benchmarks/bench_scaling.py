@@ -5,8 +5,9 @@ entries missing (``make_motions(3, n_points=P, n_frames=10, noise=1.0,
 missing=0.1, random_state=0)``), fits
 
 - the default ``make_pipeline(PowerFactorization(), GPCAClustering(3))``,
-- the paper's dense ``cos^2`` kernel route ``GPCAClustering(3, normalize=False,
-  affinity="polynomial", n_neighbors=None, affinity_power=1, refine=False)``
+- the paper's all-pairs ``cos^2`` kernel route ``GPCAClustering(3,
+  normalize=False, point_normals="one_polynomial", affinity="all_pairs",
+  affinity_power=1, refine=False)``
   on the default PowerFactorization output,
 - :class:`sklearn.cluster.SpectralClustering` with ``affinity="precomputed"``
   on the same kernel as a dense ``P x P`` array (while it fits in memory),
@@ -50,8 +51,8 @@ config, n, repeats = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 sizes = [n - 2 * (n // 3), n // 3, n // 3]
 X, y = make_motions(3, n_points=sizes, n_frames=10, noise=1.0, missing=0.1,
                     random_state=0)
-PAPER = dict(normalize=False, affinity="polynomial", n_neighbors=None,
-             affinity_power=1, refine=False)
+PAPER = dict(normalize=False, point_normals="one_polynomial",
+             affinity="all_pairs", affinity_power=1, refine=False)
 times, errors = [], []
 if config != "none":
     Z = None
@@ -68,7 +69,6 @@ if config != "none":
             labels = GPCAClustering(3, random_state=0, **PAPER).fit_predict(Z)
         else:
             from sklearn.cluster import SpectralClustering
-            from sklearn_gpca._gpca import _unit_rows
             from sklearn_gpca._spectral import normal_subspace_features
             gpca = GPCAClustering(3, random_state=0, **PAPER).fit(Z)
             phi = normal_subspace_features(gpca.point_normals_)
@@ -83,7 +83,7 @@ oracle = None
 if config == "default":
     # error floor of the draw in R^5: each point to the nearest of the
     # hyperplanes fitted to the true groups of the projected unit points
-    from sklearn_gpca._ksubspaces import fit_subspace, sine_residuals
+    from sklearn_gpca._subspaces import fit_subspace, sine_residuals
     Z = pipe[0].transform(X)
     U = Z / np.linalg.norm(Z, axis=1, keepdims=True)
     bases = [fit_subspace(U[y == k], 4, 0.0) for k in range(3)]
@@ -143,8 +143,8 @@ def write(rows, out):
         "resident memory including the data (GB), error the misclassification "
         "(%). *default*: `make_pipeline(PowerFactorization(), "
         "GPCAClustering(3))`. *dense kernel*: the paper's `cos^2` kernel "
-        "(`GPCAClustering(3, normalize=False, affinity='polynomial', "
-        "n_neighbors=None, affinity_power=1, refine=False)`, computed through "
+        "(`GPCAClustering(3, normalize=False, point_normals='one_polynomial', "
+        "affinity='all_pairs', affinity_power=1, refine=False)`, computed through "
         "its rank-15 factor) on the default PowerFactorization output, whose "
         "time excludes the projection. *sklearn*: `SpectralClustering(3, "
         "affinity='precomputed')` on the same kernel as a dense `P x P` array "

@@ -13,15 +13,17 @@ are sign invariant: ``x`` and ``-x`` are the same point. Everything is
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.sparse.linalg import ArpackNoConvergence, eigsh, lobpcg
 from sklearn.neighbors import NearestNeighbors
 
+from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._memory import chunk_rows
+from sklearn_gpca._rows import TINY
 from sklearn_gpca._spectral import normal_subspace_features
 
-_TINY = np.finfo(np.float64).tiny
 
-
-def sign_invariant_neighbors(points, n_neighbors, *, queries=None, n_jobs=None):
+def sign_invariant_neighbors(
+    points, n_neighbors, *, queries=None, n_jobs=None, return_distance=False
+):
     """Indices of the nearest neighbours of unit vectors, up to sign.
 
     Parameters
@@ -36,9 +38,13 @@ def sign_invariant_neighbors(points, n_neighbors, *, queries=None, n_jobs=None):
     n_jobs : int or None, default=None
         Parallel jobs of the search (see
         :class:`sklearn.neighbors.NearestNeighbors`).
+    return_distance : bool, default=False
+        With ``queries``: also return the distances.
 
     Returns
     -------
+    distances : ndarray of shape (n_queries, n_neighbors)
+        With ``return_distance`` only: ``min(||q - x_j||, ||q + x_j||)``.
     indices : ndarray of shape (n_samples or n_queries, n_neighbors), dtype=intp
         Row ``i`` lists the points ``j != i`` in increasing order of
         ``min(||x_i - x_j||, ||x_i + x_j||)``, i.e. of the angle between the
@@ -57,7 +63,9 @@ def sign_invariant_neighbors(points, n_neighbors, *, queries=None, n_jobs=None):
     if queries is not None:
         tree = NearestNeighbors(n_neighbors=n_neighbors, n_jobs=n_jobs)
         tree.fit(np.vstack([points, -points]))
-        return tree.kneighbors(queries, return_distance=False) % n_samples
+        distances, found = tree.kneighbors(queries)
+        found %= n_samples
+        return (distances, found) if return_distance else found
     tree = NearestNeighbors(
         n_neighbors=min(n_neighbors + 2, 2 * n_samples), n_jobs=n_jobs
     )
@@ -68,47 +76,6 @@ def sign_invariant_neighbors(points, n_neighbors, *, queries=None, n_jobs=None):
     keep = found != np.arange(n_samples)[:, None]
     order = np.argsort(~keep, axis=1, kind="stable")
     return np.take_along_axis(found, order, axis=1)[:, :n_neighbors]
-
-
-def local_normal_bases(points, neighbors, rank_tol):
-    """Normal subspace of a hyperplane (or lower subspace) fitted at each point.
-
-    Parameters
-    ----------
-    points : ndarray of shape (n_samples, n_features)
-        Unit vectors.
-    neighbors : ndarray of shape (n_samples, n_local)
-        Neighbours of each point (from :func:`sign_invariant_neighbors`).
-    rank_tol : float
-        Relative threshold on singular values. With ``s_1 >= ... >= s_K`` the
-        singular values of the ``(n_local + 1, K)`` matrix of the point and its
-        neighbours, direction ``l >= 3`` is a normal direction when ``s_l <=
-        rank_tol * s_2`` (``s_1`` is the radial direction of the patch, ``s_2``
-        its widest tangent direction); the last direction always is. Zero keeps
-        exactly one normal (hyperplanes).
-
-    Returns
-    -------
-    bases : ndarray of shape (n_samples, n_features, n_features)
-        ``bases[i][:, l]`` for ``l < codims[i]`` is an orthonormal basis of the
-        estimated normal subspace at point ``i``, smallest singular value
-        first; the remaining columns are zero.
-    codims : ndarray of shape (n_samples,), dtype=intp
-        Estimated codimension of the local subspace, ``>= 1``.
-    """
-    n_features = points.shape[1]
-    patches = np.concatenate([points[:, None, :], points[neighbors]], axis=1)
-    _, values, vt = np.linalg.svd(patches, full_matrices=True)
-    # vt rows sorted by decreasing singular value; pad missing values with 0
-    values = np.pad(values, ((0, 0), (0, n_features - values.shape[1])))
-    reference = values[:, min(1, n_features - 1)][:, None]
-    small = values <= rank_tol * reference
-    small[:, : min(2, n_features - 1)] = False
-    small[:, -1] = True
-    codims = np.count_nonzero(small, axis=1).astype(np.intp)
-    normals = vt[:, ::-1, :].transpose(0, 2, 1)  # columns: smallest first
-    bases = np.where(np.arange(n_features) < codims[:, None, None], normals, 0.0)
-    return bases, codims
 
 
 def normal_affinity_graph(bases, codims, neighbors, power):
@@ -130,72 +97,24 @@ def normal_affinity_graph(bases, codims, neighbors, power):
     -------
     affinity : scipy.sparse.csr_matrix of shape (n_samples, n_samples)
         Symmetrised with the entrywise maximum; ``O(n_samples * n_neighbors)``
-        stored entries.
+        stored entries. The edges are weighted in chunks, so the temporaries
+        stay within scikit-learn's ``working_memory``.
     """
     n_samples, n_neighbors = neighbors.shape
     rows = np.repeat(np.arange(n_samples), n_neighbors)
     cols = neighbors.ravel()
     # tr(P_i P_j) = <phi_i, phi_j> with phi the upper triangle of P_i = N_i N_i^T
     features = normal_subspace_features(bases)
-    traces = np.maximum(np.einsum("ed,ed->e", features[rows], features[cols]), 0.0)
+    traces = np.empty(rows.size)
+    # the features of both ends of a chunk of edges fit in working_memory
+    for edges in row_chunks(rows.size, chunk_rows(2 * features[0].nbytes)):
+        traces[edges] = np.einsum(
+            "ed,ed->e", features[rows[edges]], features[cols[edges]]
+        )
+    traces = np.maximum(traces, 0.0)
     weights = (traces / np.maximum(codims[rows], codims[cols])) ** power
     affinity = sp.csr_matrix((weights, (rows, cols)), shape=(n_samples, n_samples))
     return affinity.maximum(affinity.T).tocsr()
-
-
-def spectral_embedding_sparse(affinity, n_components, random_state):
-    """Ng-Jordan-Weiss embedding of a sparse non-negative affinity.
-
-    Leading eigenvectors of ``D^{-1/2} A D^{-1/2}`` by ARPACK (Lanczos; LOBPCG
-    if it does not converge), rows scaled to unit norm. Isolated points get a
-    zero row. The columns are in decreasing order of eigenvalue, so the first
-    ``m`` columns of an embedding with more components are the embedding with
-    ``m`` components before row scaling.
-
-    Parameters
-    ----------
-    affinity : scipy.sparse matrix of shape (n_samples, n_samples)
-        Symmetric non-negative affinity.
-    n_components : int
-        Number of eigenvectors, ``< n_samples``.
-    random_state : RandomState instance
-        Draws the Lanczos start vector.
-
-    Returns
-    -------
-    embedding : ndarray of shape (n_samples, n_components)
-    """
-    vectors = leading_eigenvectors(affinity, n_components, random_state)
-    return _unit_rows(vectors)
-
-
-def _unit_rows(vectors):
-    norms = np.linalg.norm(vectors, axis=1, keepdims=True)
-    return vectors / np.maximum(norms, _TINY)
-
-
-def leading_eigenvectors(affinity, n_components, random_state):
-    """Leading eigenvectors of ``D^{-1/2} A D^{-1/2}``, largest first.
-
-    See :func:`spectral_embedding_sparse`, which scales their rows.
-    """
-    n_samples = affinity.shape[0]
-    degrees = np.asarray(affinity.sum(axis=1)).ravel()
-    inv_sqrt = 1.0 / np.sqrt(np.maximum(degrees, _TINY))
-    scaling = sp.diags(inv_sqrt)
-    normalized = scaling @ affinity @ scaling
-    start = random_state.uniform(-1, 1, n_samples)
-    try:
-        values, vectors = eigsh(normalized, k=n_components, which="LA", v0=start)
-    except ArpackNoConvergence:
-        # clustered leading eigenvalues (a graph with many components): LOBPCG
-        # from a random block, still O(n_samples * n_neighbors) per iteration
-        block = random_state.standard_normal((n_samples, n_components))
-        values, vectors = lobpcg(normalized, block, largest=True, tol=1e-8, maxiter=500)
-    # leading first
-    vectors = vectors[:, np.argsort(values)[::-1]]
-    vectors[degrees <= 0] = 0.0
-    return vectors
 
 
 def _between_cluster_weights(affinity, labels, n_clusters):
@@ -272,7 +191,7 @@ def merge_clusters(affinity, labels, n_clusters):
     while len(groups) > n_clusters:
         volumes = weights.sum(axis=1)
         association = weights / np.maximum(
-            np.minimum(volumes[:, None], volumes[None, :]), _TINY
+            np.minimum(volumes[:, None], volumes[None, :]), TINY
         )
         np.fill_diagonal(association, -np.inf)
         a, b = np.unravel_index(np.argmax(association), association.shape)

@@ -8,7 +8,7 @@ Vidal & Hartley (CVPR 2004).
 
 import numpy as np
 
-from sklearn_gpca._least_squares import fit_rows
+from sklearn_gpca._least_squares import fit_rows, fits_exactly
 
 
 def squared_residual(X0, mask, B, A, total):
@@ -26,15 +26,14 @@ def squared_residual(X0, mask, B, A, total):
     return np.einsum("ij,ij->", residual, residual)
 
 
-def power_factorization(
-    X0, mask, n_components, *, max_iter, tol, random_state, log, init=None
-):
-    """Rank-``n_components`` factorisation ``X ~ B A^T`` over observed entries.
+def als(X0, mask, init, *, max_iter, tol, log):
+    """Rank-r factorisation ``X ~ B A^T`` over observed entries, by ALS.
 
     Minimises equation (8) of the paper by the PowerFactorization iteration:
-    from a random ``A_0``, (1) solve for ``B`` given ``A``, (2) orthonormalise
+    from ``A = init``, (1) solve for ``B`` given ``A``, (2) orthonormalise
     ``B``, (3) solve for ``A`` given ``B``. With complete data steps (1) and
-    (3) are the matrix products ``X A`` and ``X^T B`` (the power method).
+    (3) are the matrix products ``X A`` and ``X^T B`` (the power method). One
+    iteration costs ``O(|observed| r^2 + (n_samples + n_features) r^3)``.
 
     Parameters
     ----------
@@ -42,46 +41,65 @@ def power_factorization(
         Data, with missing entries set to zero.
     mask : ndarray of shape (n_samples, n_features) or None
         1.0 where observed, 0.0 where missing; None for complete data.
-    n_components : int
+    init : ndarray of shape (n_features, r)
+        Starting ``A``, orthonormal columns.
     max_iter : int
     tol : float
         Stop when the squared residual decreases by less than ``tol`` times
         its value in one iteration.
-    random_state : numpy.random.RandomState
     log : callable
         Called with a message per iteration (verbose output) or a no-op.
-    init : ndarray of shape (n_features, n_components), default=None
-        Starting ``A``; None draws a random orthonormal one.
 
     Returns
     -------
-    B : ndarray of shape (n_samples, n_components)
+    B : ndarray of shape (n_samples, r)
         Orthonormal columns.
-    A : ndarray of shape (n_features, n_components)
+    A : ndarray of shape (n_features, r)
     n_iter : int
     converged : bool
     """
-    n_features = X0.shape[1]
-    if init is None:
-        A, _ = np.linalg.qr(random_state.standard_normal((n_features, n_components)))
-    else:
-        A = init
-    total = np.einsum("ij,ij->", X0, X0)
-    previous = np.inf
-    for n_iter in range(1, max_iter + 1):
-        if mask is None:
-            B = X0 @ A
-        else:
-            B = fit_rows(X0, mask, A.T)
-        B, _ = np.linalg.qr(B)
-        if mask is None:
-            A = X0.T @ B
-        else:
-            A = fit_rows(X0.T, mask.T, B.T)
-        current = squared_residual(X0, mask, B, A, total)
-        log(f"iteration {n_iter}, squared residual {current:.6g}")
-        stalled = n_iter > 1 and previous - current <= tol * previous
-        if stalled or current <= 1e-28 * total:
-            return B, A, n_iter, True
-        previous = current
-    return B, A, max_iter, False
+    return ALS(X0, mask, init, tol=tol, log=log).run(max_iter).result()
+
+
+class ALS:
+    """Alternating least squares from one starting basis, resumable.
+
+    Same interface as :class:`sklearn_gpca._varpro.VarPro`: :meth:`run` with
+    a budget of iterations (every iteration is an accepted step), ``cost``,
+    ``done`` and :meth:`result`.
+    """
+
+    def __init__(self, X0, mask, init, *, tol, log):
+        self.X0, self.mask, self.tol, self.log = X0, mask, tol, log
+        self.total = np.einsum("ij,ij->", X0, X0)
+        self.A, self.B = init, None
+        self.cost = np.inf
+        self.n_iter = 0
+        self.done = self.converged = False
+
+    def run(self, max_iter, max_accepted=None):
+        """Iterate until convergence, ``max_iter`` iterations in all or
+        ``max_accepted`` more."""
+        stop = max_iter if max_accepted is None else self.n_iter + max_accepted
+        X0, mask = self.X0, self.mask
+        while not self.done and self.n_iter < min(max_iter, stop):
+            self.n_iter += 1
+            if mask is None:
+                B = X0 @ self.A
+            else:
+                B = fit_rows(X0, mask, self.A.T)
+            self.B, _ = np.linalg.qr(B)
+            if mask is None:
+                self.A = X0.T @ self.B
+            else:
+                self.A = fit_rows(X0.T, mask.T, self.B.T)
+            previous = self.cost
+            self.cost = squared_residual(X0, mask, self.B, self.A, self.total)
+            self.log(f"iteration {self.n_iter}, squared residual {self.cost:.6g}")
+            stalled = self.n_iter > 1 and previous - self.cost <= self.tol * previous
+            if stalled or fits_exactly(self.cost, self.total):
+                self.done = self.converged = True
+        return self
+
+    def result(self):
+        return self.B, self.A, self.n_iter, self.converged

@@ -245,7 +245,7 @@ def _segment(args):
     )
     motions = f"{n_motions}"
     if args.n_motions == "auto":
-        bits = pipeline[-1].coding_lengths_
+        bits = pipeline[-1].n_clusters_costs_
         chosen = ", ".join(
             f"{n}: {b:.0f}" for n, b in enumerate(bits, start=1) if np.isfinite(b)
         )

@@ -11,7 +11,8 @@ chosen by held-out error and then projects on the leading ``r`` directions.
 
 import numpy as np
 
-from sklearn_gpca import _als
+from sklearn_gpca._als import als
+from sklearn_gpca._multistart import random_basis
 
 # Entries held out to compare ranks, and the rows used for the comparison.
 _HELD_OUT = 0.1
@@ -21,12 +22,19 @@ _SLACK = 1.05
 
 
 def max_completion_rank(mask, n_components, max_rank):
-    """Largest rank worth trying: enough rows and columns must determine it."""
+    """Largest rank worth trying: enough rows and columns must determine it.
+
+    Every column must be observed ``q`` times, and at least ``q`` rows must
+    be observed in ``q`` entries or more (the rows that inform a rank-``q``
+    basis).
+    """
     n_samples, n_features = mask.shape
     col_counts = mask.sum(axis=0)
-    return int(
-        max(n_components, min(max_rank, n_features, n_samples, col_counts.min()))
-    )
+    row_counts = np.sort(mask.sum(axis=1))[::-1]
+    # the largest q with q rows observed in at least q entries (an h-index)
+    rows_limit = np.count_nonzero(row_counts >= np.arange(1, n_samples + 1))
+    limit = min(max_rank, n_features, n_samples, col_counts.min(), rows_limit)
+    return int(max(n_components, limit))
 
 
 def select_completion_rank(X0, mask, n_components, max_rank, random_state):
@@ -71,15 +79,8 @@ def select_completion_rank(X0, mask, n_components, max_rank, random_state):
         best = min(errors.values(), default=np.inf)
         if len(errors) >= 2 and min(list(errors.values())[-2:]) > _SLACK * best:
             break  # two ranks in a row worse than the best: past the true rank
-        B, A, _, _ = _als.power_factorization(
-            X_train,
-            train,
-            rank,
-            max_iter=100,
-            tol=1e-6,
-            random_state=random_state,
-            log=_silent,
-        )
+        init = random_basis(X_train.shape[1], rank, random_state)
+        B, A, _, _ = als(X_train, train, init, max_iter=100, tol=1e-6, log=_silent)
         residual = (X_rows - B @ A.T)[held_out]
         errors[rank] = float(np.sqrt(np.mean(residual**2)))
     best = min(errors.values())

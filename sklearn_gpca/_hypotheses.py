@@ -1,226 +1,283 @@
-"""Motion hypotheses from small samples of co-visible tracks, ranked per track.
+"""Subspace hypotheses from small sets of co-visible tracks, and their preferences.
 
-Each model (fundamental matrix, homography, rank-4 subspace) is estimated on
-many minimal samples of tracks that are all observed in the same frames: a
-frame pair ``(f, f + g)`` for the two-view models, a window of consecutive
-frames for the subspace. Every track observed there gets a residual to every
-hypothesis, and votes for the ``top`` share of them with the smallest
-residuals: the ordered residual kernel (ORK) of Chin, Wang & Suter (ICCV 2009),
-as Xu, Cheong & Li (CVPR 2018) use it per frame pair. Ranking, not a threshold,
-makes the votes free of the residual's scale, which differs between models,
-frame pairs and sequences.
-
-Samples are local (a random seed track and its nearest co-visible tracks in
-the image) so that a small object gets pure samples about as often as the
-background, in proportion to its tracks rather than to the square or the
-eighth power of its share. A track's votes count only among the hypotheses of
-frames where it is observed, so partial tracks count wherever they are seen.
+Beyond the paper (issues 16 and 17): a hypothesis is the ``d``-dimensional
+linear subspace of ``R^{2F}`` spanned by a track and its nearest tracks, on the
+coordinates all of them observe. Every track is scored against every
+hypothesis on its own observed entries within the hypothesis's support
+(residual per residual degree of freedom), keeps the ``h`` hypotheses it fits
+best as its *preferences*, and two tracks are alike when they share
+preferences: the ordered-residual kernel of Chin, Wang & Suter (CVPR 2009),
+``K = Phi Phi^T`` with ``Phi`` the sparse ``P x H`` preference indicator,
+never formed. Seeds are drawn in two rounds, the second with probability
+inversely proportional to a track's degree in the first round's kernel, so
+that a dominant motion (a background holding most tracks) does not take most
+of the hypotheses. Cost: ``O(P H D d^2)`` time for the residuals (linear in
+``P`` for a bounded number ``H`` of hypotheses), ``O(P h)`` memory for the
+kernel.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-from scipy import sparse
-from sklearn.neighbors import NearestNeighbors
+import scipy.sparse as sp
+from scipy.sparse.linalg import svds
+from sklearn.cluster import KMeans
 
-from sklearn_gpca._two_view import (
-    MIN_SAMPLE,
-    fit_fundamental,
-    fit_homography,
-    sampson_fundamental,
-    sampson_homography,
-)
+from sklearn_gpca._chunks import row_chunks
 
-#: Minimal sample of every model: 8 point pairs, 4 point pairs, 4 tracks.
-SAMPLE_SIZE = {**MIN_SAMPLE, "subspace": 4}
-
-#: Rank of the subspace hypotheses: a rigid motion under an affine camera.
-SUBSPACE_RANK = 4
+_RIDGE = 1e-12
+_TINY = np.finfo(np.float64).tiny
 
 
-def observed_frames(X):
-    """Which tracks are observed in which frames.
-
-    Parameters
-    ----------
-    X : ndarray of shape (n_samples, 2 * n_frames)
-        Tracks ``[x_1, y_1, ..., x_F, y_F]``, NaN where missing.
-
-    Returns
-    -------
-    observed : ndarray of shape (n_samples, n_frames), dtype=bool
-        True where both coordinates of the frame are finite.
-    """
-    return np.isfinite(X[:, 0::2]) & np.isfinite(X[:, 1::2])
-
-
-def frame_pairs(n_frames, gaps):
-    """Frame pairs ``(f, f + g)`` for every gap ``g``, as an (n, 2) array."""
-    pairs = [(f, f + g) for g in gaps for f in range(n_frames - g)]
-    return np.array(pairs, dtype=np.intp).reshape(-1, 2)
-
-
-def local_samples(positions, size, n_samples, n_neighbors, rng):
-    """Random local samples: a seed and ``size - 1`` of its nearest neighbours.
-
-    Parameters
-    ----------
-    positions : ndarray of shape (n_points, n_dims)
-        Where the candidate tracks are (image coordinates).
-    size : int
-        Points per sample, at most ``n_points``.
-    n_samples : int
-        Number of samples.
-    n_neighbors : int
-        The other members are drawn without replacement among the seed's
-        ``n_neighbors`` nearest points (clipped to ``[size - 1, n_points -
-        1]``).
-    rng : RandomState
-
-    Returns
-    -------
-    samples : ndarray of shape (n_samples, size), dtype=intp
-        Indices into ``positions``, distinct within each sample.
-    """
-    n_points = positions.shape[0]
-    n_neighbors = int(np.clip(n_neighbors, size - 1, n_points - 1))
-    seeds = rng.randint(n_points, size=n_samples)
-    if size == 1:
-        return seeds[:, None]
-    nn = NearestNeighbors(n_neighbors=n_neighbors + 1).fit(positions)
-    # The query point is its own first neighbour unless duplicates precede it:
-    # drop the seed wherever it appears, keep n_neighbors others.
-    neighbors = nn.kneighbors(positions[seeds], return_distance=False)
-    not_seed = neighbors != seeds[:, None]
-    order = np.argsort(~not_seed, axis=1, kind="stable")[:, :n_neighbors]
-    neighbors = np.take_along_axis(neighbors, order, axis=1)
-    picks = np.argsort(rng.random_sample(neighbors.shape), axis=1)[:, : size - 1]
-    return np.c_[seeds, np.take_along_axis(neighbors, picks, axis=1)]
-
-
-def _two_view_residuals(model, points1, points2, samples):
-    fit, sampson = {
-        "fundamental": (fit_fundamental, sampson_fundamental),
-        "homography": (fit_homography, sampson_homography),
-    }[model]
-    M = fit(points1[samples], points2[samples])
-    return sampson(M, points1, points2)
-
-
-def _subspace_residuals(tracks, samples):
-    """Distance of every track to the span of every sample's tracks.
-
-    Divided by the square root of the residual's degrees of freedom, as in
-    the oracle's per-degree-of-freedom residual.
-    """
-    bases = np.linalg.qr(np.swapaxes(tracks[samples], 1, 2))[0]
-    coords = np.einsum("pd,hdk->phk", tracks, bases)
-    # The residual itself, not ||x||^2 - ||Q^T x||^2, which loses half the
-    # digits near 0.
-    residual = tracks[:, None, :] - np.einsum("phk,hdk->phd", coords, bases)
-    dof = tracks.shape[1] - SUBSPACE_RANK
-    return np.linalg.norm(residual, axis=2) / np.sqrt(dof)
-
-
-def top_votes(residuals, top):
-    """Each row's ``top`` share of columns with the smallest residuals.
-
-    Parameters
-    ----------
-    residuals : ndarray of shape (n_points, n_hypotheses)
-    top : float in (0, 1]
-        Share of the hypotheses each point votes for; at least one.
-
-    Returns
-    -------
-    columns : ndarray of shape (n_points, k), dtype=intp
-        The ``k = max(1, round(top * n_hypotheses))`` hypotheses each point
-        votes for (in no particular order).
-    """
-    n_hyp = residuals.shape[1]
-    k = max(1, round(top * n_hyp))
-    if k >= n_hyp:
-        return np.broadcast_to(np.arange(n_hyp), (residuals.shape[0], n_hyp))
-    return np.argpartition(residuals, k - 1, axis=1)[:, :k]
-
-
-def _views(model, observed, gaps, window):
-    """Frame sets the model's hypotheses are drawn on: pairs or windows."""
-    n_frames = observed.shape[1]
-    if model == "subspace":
-        return [np.arange(s, s + window) for s in range(n_frames - window + 1)]
-    return list(frame_pairs(n_frames, gaps))
-
-
-def preference_votes(
-    X, model, *, n_hypotheses, top, gaps, window, n_neighbors, random_state
+def local_hypotheses(
+    X0, mask, neighbors, seeds, dim, size, *, min_support, return_noise=False
 ):
-    """Sparse votes of every track for the hypotheses of one model.
+    """Subspaces spanned by each seed and its nearest co-visible tracks.
+
+    Neighbours are taken in order (nearest first) while the coordinates
+    observed by all members stay at least ``min_support``; the subspace is
+    the span of the ``dim`` leading right singular vectors of the members
+    restricted to those coordinates.
 
     Parameters
     ----------
-    X : ndarray of shape (n_samples, 2 * n_frames)
-        Tracks, NaN where missing.
-    model : {"fundamental", "homography", "subspace"}
-        Fundamental matrices and homographies are drawn on the frame pairs
-        ``(f, f + g)``, ``g`` in ``gaps``, with Sampson distances as
-        residuals; rank-4 subspaces on every window of ``window`` consecutive
-        frames, with the distance to the span per degree of freedom.
-    n_hypotheses : int
-        Hypotheses drawn on each frame pair or window.
-    top : float in (0, 1]
-        Share of a view's hypotheses each track observed there votes for.
-    gaps : sequence of int
-        Frame gaps of the pairs.
-    window : int
-        Frames per window of the subspace model, at least 3.
-    n_neighbors : int
-        Locality of the samples (see :func:`local_samples`).
-    random_state : RandomState
+    X0, mask : ndarray of shape (n_samples, n_features)
+        Tracks (zero where missing) and observed entries.
+    neighbors : ndarray of shape (n_samples, n_neighbors)
+        Nearest tracks, ``-1`` for none.
+    seeds : ndarray of shape (n_hypotheses,)
+        Track each hypothesis starts from.
+    dim : int
+        Dimension of the hypotheses.
+    size : int
+        Largest number of tracks per hypothesis (seed included).
+    min_support : int
+        Fewest coordinates a hypothesis is defined on.
+    return_noise : bool, default=False
+        Also return each hypothesis's residual energy per residual degree
+        of freedom of its members (NaN without any).
 
     Returns
     -------
-    votes : scipy.sparse.csr_array of shape (n_samples, n_columns)
-        1 where a track votes for a hypothesis. Views with fewer co-visible
-        tracks than a minimal sample plus one give no column.
-    n_views : int
-        Number of views (frame pairs or windows) that gave hypotheses.
-
-    Notes
-    -----
-    Time ``O(n_views * n_hypotheses * n_samples)``: linear in the number of
-    tracks for a bounded number of hypotheses; one Python loop over the views
-    (frame pairs or windows), none over samples or hypotheses.
+    bases : ndarray of shape (n_hypotheses, n_features, dim)
+        Orthonormal columns, zero rows outside the support.
+    supports : ndarray of shape (n_hypotheses, n_features), dtype=bool
+    n_members : ndarray of shape (n_hypotheses,), dtype=intp
     """
-    size = SAMPLE_SIZE[model]
-    observed = observed_frames(X)
-    rows, cols = [], []
-    offset = n_views = 0
-    for frames in _views(model, observed, gaps, window):
-        members = np.flatnonzero(observed[:, frames].all(axis=1))
-        if members.size <= size:
-            continue
-        coords = X[np.ix_(members, np.c_[2 * frames, 2 * frames + 1].ravel())]
-        samples = local_samples(
-            coords[:, :2], size, n_hypotheses, n_neighbors, random_state
-        )
-        if model == "subspace":
-            residuals = _subspace_residuals(coords, samples)
-        else:
-            residuals = _two_view_residuals(
-                model, coords[:, :2], coords[:, 2:], samples
-            )
-        # Non-finite residuals (degenerate samples) rank last.
-        residuals = np.where(np.isfinite(residuals), residuals, np.inf)
-        chosen = top_votes(residuals, top)
-        rows.append(np.repeat(members, chosen.shape[1]))
-        cols.append(chosen.ravel() + offset)
-        offset += n_hypotheses
-        n_views += 1
-    if not rows:
-        return sparse.csr_array((X.shape[0], 0)), 0
-    rows, cols = np.concatenate(rows), np.concatenate(cols)
-    votes = sparse.csr_array(
-        (np.ones(rows.size), (rows, cols)), shape=(X.shape[0], offset)
+    n_hyp = seeds.shape[0]
+    members = np.full((n_hyp, size), -1, dtype=np.intp)
+    members[:, 0] = seeds
+    support = mask[seeds].copy()
+    count = np.ones(n_hyp, dtype=np.intp)
+    for j in range(neighbors.shape[1]):
+        candidate = neighbors[seeds, j]
+        valid = (candidate >= 0) & (count < size)
+        new_support = support & mask[np.maximum(candidate, 0)]
+        take = valid & (new_support.sum(axis=1) >= min_support)
+        members[take, count[take]] = candidate[take]
+        support[take] = new_support[take]
+        count[take] += 1
+    stacked = np.where(members[:, :, None] >= 0, X0[np.maximum(members, 0)], 0.0)
+    stacked *= support[:, None, :]
+    _, values, vt = np.linalg.svd(stacked, full_matrices=False)
+    bases = np.zeros((n_hyp, X0.shape[1], dim))
+    n_dir = min(dim, vt.shape[1])
+    bases[:, :, :n_dir] = vt[:, :n_dir].transpose(0, 2, 1)
+    # a hypothesis with fewer than dim members keeps zero columns beyond them
+    bases *= (np.arange(dim) < count[:, None])[:, None, :]
+    if return_noise:
+        # residual energy per residual degree of freedom of the members
+        energy = np.sum(values[:, dim:] ** 2, axis=1)
+        dofs = (count - dim) * (support.sum(axis=1) - dim)
+        noise = np.where(dofs > 0, energy / np.maximum(dofs, 1), np.nan)
+        return bases, support, count, noise
+    return bases, support, count
+
+
+def local_noise_level(
+    X0, mask, neighbors, *, dim=4, size=8, n_samples=200, random_state
+):
+    """Noise variance per coordinate, from small sets of neighbouring tracks.
+
+    A track and its nearest co-visible tracks almost always share a motion,
+    so the residual of their best ``dim``-dimensional subspace (per residual
+    degree of freedom, ``(n - dim)(D_h - dim)`` for ``n`` tracks on ``D_h``
+    coordinates) measures the noise; the median over ``n_samples`` random
+    seeds is robust to the few mixed sets. Returns a float ``> 0``.
+    """
+    n_samples_total, n_features = X0.shape
+    min_support = min(2 * (dim + 2), n_features)
+    eligible = np.flatnonzero(np.count_nonzero(mask, axis=1) >= min_support)
+    if eligible.size == 0:
+        eligible = np.arange(n_samples_total)
+    seeds = random_state.choice(eligible, min(n_samples, eligible.size), replace=False)
+    *_, noise = local_hypotheses(
+        X0,
+        mask,
+        neighbors,
+        seeds,
+        dim,
+        size,
+        min_support=min_support,
+        return_noise=True,
     )
-    return votes, n_views
+    noise = noise[np.isfinite(noise) & (noise > 0)]
+    if noise.size == 0:
+        observed = X0[mask]
+        return float(max(np.mean(observed**2) * 1e-6, _TINY))
+    return float(np.median(noise))
+
+
+def hypothesis_residuals(X0, mask, bases, supports):
+    """Residual of every track to every hypothesis on its observed support.
+
+    Parameters
+    ----------
+    X0, mask : ndarray of shape (n_samples, n_features)
+        Tracks and observed entries.
+    bases : ndarray of shape (n_hypotheses, n_features, dim)
+        Zero rows outside each support.
+    supports : ndarray of shape (n_hypotheses, n_features), dtype=bool
+
+    Returns
+    -------
+    residuals : ndarray of shape (n_samples, n_hypotheses)
+        ``min_z ||x_O - B_O z||^2`` over ``O`` = observed and in the support.
+    dofs : ndarray of shape (n_samples, n_hypotheses), dtype=intp
+        ``max(|O| - rank, 0)`` with ``rank`` the number of non-zero columns.
+    """
+    n_samples, n_features = X0.shape
+    n_hyp, _, dim = bases.shape
+    ranks = np.count_nonzero(np.any(bases != 0, axis=1), axis=1)
+    flat = bases.transpose(1, 0, 2).reshape(n_features, n_hyp * dim)
+    m = mask.astype(np.float64)
+    counts = (m @ supports.T.astype(np.float64)).astype(np.intp)
+    complete = bool(mask.all()) and bool(supports.all())
+    if not complete:
+        outer = (bases[:, :, :, None] * bases[:, :, None, :]).transpose(1, 0, 2, 3)
+        outer = outer.reshape(n_features, n_hyp * dim * dim)
+    residuals = np.empty((n_samples, n_hyp))
+    sq = X0 * X0
+    for rows in row_chunks(n_samples, max(1, 2**22 // max(n_hyp * dim * dim, 1))):
+        norms = sq[rows] @ supports.T
+        rhs = (X0[rows] @ flat).reshape(-1, n_hyp, dim)
+        if complete:
+            fitted = np.einsum("phd,phd->ph", rhs, rhs)
+        else:
+            gram = (m[rows] @ outer).reshape(-1, n_hyp, dim, dim)
+            scale = np.trace(gram, axis1=-2, axis2=-1) / dim
+            gram += (_RIDGE * scale + _TINY)[..., None, None] * np.eye(dim)
+            coefs = np.linalg.solve(gram, rhs[..., None])[..., 0]
+            fitted = np.einsum("phd,phd->ph", rhs, coefs)
+        residuals[rows] = np.maximum(norms - fitted, 0.0)
+    dofs = np.maximum(counts - ranks[None, :], 0)
+    return residuals, dofs
+
+
+def preference_matrix(residuals, dofs, n_preferences, *, min_dof=1):
+    """Sparse indicator of each track's best-fitting hypotheses.
+
+    Hypotheses are ranked per track by residual per degree of freedom; those
+    where the track has fewer than ``min_dof`` residual degrees of freedom
+    are not candidates. Returns a CSR matrix of shape ``(n_samples,
+    n_hypotheses)`` with at most ``n_preferences`` ones per row.
+    """
+    n_samples, n_hyp = residuals.shape
+    per_dof = np.where(dofs >= min_dof, residuals / np.maximum(dofs, 1), np.inf)
+    h = min(n_preferences, n_hyp)
+    top = np.argpartition(per_dof, h - 1, axis=1)[:, :h]
+    keep = np.isfinite(np.take_along_axis(per_dof, top, axis=1))
+    rows = np.repeat(np.arange(n_samples), h)[keep.ravel()]
+    return sp.csr_matrix(
+        (np.ones(rows.size), (rows, top.ravel()[keep.ravel()])),
+        shape=(n_samples, n_hyp),
+    )
+
+
+def kernel_degrees(features):
+    """Degrees ``K 1`` of the kernel ``K = F F^T`` (self-similarity excluded)."""
+    features = sp.csr_matrix(features)
+    total = features @ np.asarray(features.sum(axis=0)).ravel()
+    own = np.asarray(features.multiply(features).sum(axis=1)).ravel()
+    return total - own
+
+
+def spectral_labels(features, n_clusters, *, n_init=10, random_state):
+    """Ng-Jordan-Weiss spectral clustering of ``K = F F^T`` through ``F``.
+
+    The leading eigenvectors of ``D^{-1/2} K D^{-1/2}`` are the leading left
+    singular vectors of ``D^{-1/2} F``; rows with zero degree get label 0.
+    """
+    features = sp.csr_matrix(features, dtype=np.float64)
+    n_samples = features.shape[0]
+    degrees = features @ np.asarray(features.sum(axis=0)).ravel()
+    scaled = sp.diags(1.0 / np.sqrt(np.maximum(degrees, _TINY))) @ features
+    k = min(n_clusters, min(scaled.shape) - 1)
+    if min(scaled.shape) <= 200 or k < 1:
+        left = np.linalg.svd(scaled.toarray(), full_matrices=False)[0][:, :n_clusters]
+    else:
+        v0 = random_state.uniform(-1, 1, min(scaled.shape))
+        left, values, _ = svds(scaled, k=k, v0=v0)
+        left = left[:, np.argsort(values)[::-1]]
+    left[degrees <= 0] = 0.0
+    norms = np.linalg.norm(left, axis=1, keepdims=True)
+    embedding = left / np.maximum(norms, _TINY)
+    if n_clusters == 1:
+        return np.zeros(n_samples, dtype=np.intp)
+    kmeans = KMeans(n_clusters, n_init=n_init, random_state=random_state)
+    return kmeans.fit_predict(embedding).astype(np.intp)
+
+
+def preference_segmentation(
+    X0,
+    mask,
+    neighbors,
+    n_clusters,
+    *,
+    n_hypotheses=300,
+    hypothesis_dim=4,
+    hypothesis_size=6,
+    preference_fraction=0.1,
+    random_state,
+):
+    """Spectral clustering of the ordered-residual kernel of local hypotheses.
+
+    ``n_hypotheses // 2`` seeds are drawn uniformly, the other half with
+    probability inversely proportional to the first round's kernel degree.
+    Each track keeps ``preference_fraction * n_hypotheses`` preferences.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+    preferences : scipy.sparse.csr_matrix of shape (n_samples, n_hypotheses)
+    """
+    n_samples = X0.shape[0]
+    min_support = min(2 * (hypothesis_dim + 2), X0.shape[1])
+    first = max(n_hypotheses // 2, 1)
+
+    def scored(seeds):
+        bases, supports, _ = local_hypotheses(
+            X0,
+            mask,
+            neighbors,
+            seeds,
+            hypothesis_dim,
+            hypothesis_size,
+            min_support=min_support,
+        )
+        return hypothesis_residuals(X0, mask, bases, supports)
+
+    residuals, dofs = scored(random_state.choice(n_samples, first))
+    n_pref = max(round(preference_fraction * first), 2)
+    degrees = kernel_degrees(preference_matrix(residuals, dofs, n_pref))
+    weights = 1.0 / np.maximum(degrees, 1.0)
+    seeds = random_state.choice(
+        n_samples, n_hypotheses - first, p=weights / weights.sum()
+    )
+    more_residuals, more_dofs = scored(seeds)
+    residuals = np.hstack([residuals, more_residuals])
+    dofs = np.hstack([dofs, more_dofs])
+    n_pref = max(round(preference_fraction * n_hypotheses), 2)
+    preferences = preference_matrix(residuals, dofs, n_pref)
+    labels = spectral_labels(preferences, n_clusters, random_state=random_state)
+    return labels, preferences

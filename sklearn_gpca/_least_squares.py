@@ -1,4 +1,9 @@
-"""Batched least-squares fits of rows against a basis, over observed entries."""
+"""Batched least-squares fits of rows against a basis, over observed entries.
+
+Every small ``r x r`` system of the factorisation (one per row or per column)
+is damped and solved here, and the floor below which a residual counts as an
+exact fit is defined here too.
+"""
 
 # SPDX-License-Identifier: BSD-3-Clause
 
@@ -8,15 +13,60 @@ from sklearn_gpca._chunks import row_chunks
 
 # Relative Tikhonov damping added to every small normal-equation system, so
 # that a numerically singular system never raises ``LinAlgError`` deep inside
-# a batched solve. It is far below the accuracy of any measurement.
+# a batched solve. It is far below the accuracy of any measurement. For a row
+# observed in fewer entries than the basis has directions it picks the
+# minimum-norm solution.
 _RIDGE = 1e-12
+
+# A squared residual below this fraction of the squared norm of the data is an
+# exact fit (round-off): iterations stop there.
+_EXACT_FIT = 1e-28
+
+
+def fits_exactly(cost, total):
+    """Whether the squared residual ``cost`` is round-off for data of squared
+    norm ``total``."""
+    return cost <= _EXACT_FIT * total
+
+
+def damp(gram):
+    """Add the relative ridge to the diagonal of each ``r x r`` matrix, in place."""
+    r = gram.shape[-1]
+    diagonal = np.arange(r)
+    ridge = _RIDGE * np.trace(gram, axis1=-2, axis2=-1) / r + np.finfo(float).tiny
+    gram[..., diagonal, diagonal] += ridge[..., None]
+    return gram
+
+
+def row_grams(mask, basis):
+    """Gram matrices ``basis diag(mask[i]) basis^T`` of every row, undamped.
+
+    Parameters
+    ----------
+    mask : ndarray of shape (n_rows, n_cols)
+        1.0 where observed, 0.0 where missing (or any weights).
+    basis : ndarray of shape (r, n_cols)
+
+    Returns
+    -------
+    gram : ndarray of shape (n_rows, r, r)
+    """
+    r = basis.shape[0]
+    upper, lower = np.triu_indices(r)
+    # one product per pair k <= l: the matrices are symmetric
+    sums = mask @ (basis[upper] * basis[lower]).T
+    gram = np.empty((mask.shape[0], r, r))
+    gram[:, upper, lower] = sums
+    gram[:, lower, upper] = sums
+    return gram
 
 
 def fit_rows(X0, mask, basis):
     """Least-squares coordinates of every row of ``X0`` in ``basis``.
 
     For each row ``i`` solve ``min_z sum_j mask[i, j] (X0[i, j] - z @ basis[:, j])**2``
-    through its ``r x r`` normal equations, all rows in one batched solve.
+    through its damped ``r x r`` normal equations, all rows in one batched
+    solve (over chunks of rows, so that memory stays ``O(n_rows r^2)``).
 
     Parameters
     ----------
@@ -31,19 +81,20 @@ def fit_rows(X0, mask, basis):
     -------
     Z : ndarray of shape (n_rows, r)
     """
-    r, n_cols = basis.shape
     rhs = X0 @ basis.T
     if mask is None:
-        gram = basis @ basis.T
-        gram = gram + _RIDGE * np.trace(gram) / r * np.eye(r)
+        gram = damp(basis @ basis.T)
         return np.linalg.solve(gram, rhs.T).T
-    # gram[i] = sum_j mask[i, j] basis[:, j] basis[:, j]^T, for all i at once,
-    # over chunks of rows so that memory stays O(n_rows r)
-    outer = (basis[:, None, :] * basis[None, :, :]).reshape(r * r, n_cols)
     Z = np.empty_like(rhs)
     for rows in row_chunks(X0.shape[0]):
-        gram = (mask[rows] @ outer.T).reshape(-1, r, r)
-        damping = _RIDGE * np.trace(gram, axis1=1, axis2=2) / r + np.finfo(float).tiny
-        gram[:, np.arange(r), np.arange(r)] += damping[:, None]
+        gram = damp(row_grams(mask[rows], basis))
         Z[rows] = np.linalg.solve(gram, rhs[rows][..., None])[..., 0]
     return Z
+
+
+def inverse_row_grams(mask, basis):
+    """Inverses of the damped Gram matrices of :func:`row_grams`.
+
+    Used where the same systems are solved for many right-hand sides.
+    """
+    return np.linalg.inv(damp(row_grams(mask, basis)))

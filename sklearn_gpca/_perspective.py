@@ -14,9 +14,9 @@ from sklearn.utils._param_validation import Interval
 from sklearn.utils.extmath import randomized_svd
 from sklearn.utils.validation import validate_data
 
-from sklearn_gpca._hypotheses import observed_frames, preference_votes
 from sklearn_gpca._missing import describe_indices, masked_to_nan
-from sklearn_gpca._spectral import _assign_labels
+from sklearn_gpca._spectral import embedding_kmeans
+from sklearn_gpca._view_hypotheses import observed_frames, preference_votes
 
 _TINY = np.finfo(np.float64).tiny
 
@@ -196,7 +196,7 @@ def perspective_clustering(
     if n_clusters == 1:
         return np.zeros(X.shape[0], dtype=np.intp), votes, 0
     embedding = spectral_embedding_votes(votes, n_clusters, rng)
-    labels = _assign_labels(embedding, n_clusters, n_init, rng)
+    labels = embedding_kmeans(embedding, n_clusters, n_init=n_init, random_state=rng)
     labels, n_iter = refine_normalized_cut(votes, labels, n_clusters, max_iter)
     return labels, votes, n_iter
 

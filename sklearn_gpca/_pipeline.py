@@ -11,7 +11,7 @@ from sklearn_gpca._power_factorization import PowerFactorization
 def paper_pipeline(n_clusters, *, random_state=None):
     """Algorithm 1 of Vidal & Hartley (CVPR 2004), exactly as published.
 
-    Steps 1-3: project the trajectories to ``R^5`` with PowerFactorization
+    Steps 1-3: project the trajectories to :math:`R^5` with PowerFactorization
     (the rows of ``V`` of the SVD for complete data), fit one homogeneous
     polynomial of degree ``n_clusters`` to the projected points, and cluster
     them spectrally with the similarity ``cos^2`` of the angles between the
@@ -35,9 +35,9 @@ def paper_pipeline(n_clusters, *, random_state=None):
         one random start, at rank 5, on all rows: ``solver="als",
         completion_rank=None, n_init=1, max_init_samples=None``) and the
         paper's GPCA pinned: raw (not normalised) points, one polynomial's
-        gradients, the dense ``cos^2`` kernel and no refinement
-        (``normalize=False, affinity="polynomial", n_neighbors=None,
-        affinity_power=1, refine=False``).
+        gradients, the ``cos^2`` kernel on all pairs and no refinement
+        (``normalize=False, point_normals="one_polynomial",
+        affinity="all_pairs", affinity_power=1, refine=False``).
 
     Examples
     --------
@@ -61,8 +61,8 @@ def paper_pipeline(n_clusters, *, random_state=None):
         GPCAClustering(
             n_clusters,
             normalize=False,
-            affinity="polynomial",
-            n_neighbors=None,
+            point_normals="one_polynomial",
+            affinity="all_pairs",
             affinity_power=1,
             refine=False,
             random_state=random_state,

@@ -17,7 +17,9 @@ import numpy as np
 from scipy.linalg import eigh
 
 from sklearn_gpca._chunks import row_chunks
-from sklearn_gpca._veronese import polynomial_gradients, veronese_map
+from sklearn_gpca._memory import chunk_rows
+from sklearn_gpca._rows import canonical_sign, unit_rows
+from sklearn_gpca._veronese import n_monomials, polynomial_gradients, veronese_map
 
 
 def embedded_spectrum(points, degree):
@@ -39,7 +41,8 @@ def embedded_spectrum(points, degree):
         ``l``-th smallest residual ``||W~^T c||``.
     """
     gram = 0.0
-    for rows in row_chunks(points.shape[0]):
+    n_mono = n_monomials(points.shape[1], degree)
+    for rows in row_chunks(points.shape[0], chunk_rows(2 * 8 * n_mono)):
         embedded = veronese_map(points[rows], degree)
         gram = gram + embedded.T @ embedded
     values, vectors = eigh(gram)
@@ -78,7 +81,81 @@ def null_space_dimension(singular_values):
     return int(np.argmax(np.diff(np.log(values)))) + 1
 
 
-def polynomial_normal_bases(points, coefs, degree, rank_tol):
+def vanishing_polynomials(points, degree):
+    """The homogeneous polynomials of degree ``degree`` that vanish on ``points``.
+
+    Step 2 of Algorithm 1 (equation (9)) and section 2.2.4: the right singular
+    vectors of the embedded data ``W~`` for its smallest singular values, as
+    many as :func:`null_space_dimension` finds.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_samples, n_features)
+        Points, one per row.
+    degree : int
+        Degree ``n`` of the polynomials: the number of subspaces.
+
+    Returns
+    -------
+    polynomials : ndarray of shape (n_polynomials, n_monomials)
+        Orthonormal coefficient vectors, each signed so that its
+        largest-magnitude entry is positive; the first is the single polynomial
+        of the paper, the best fit ``argmin ||W~^T c||`` with ``||c|| = 1``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca._polynomials import vanishing_polynomials
+    >>> # the lines y = 0 and x = 0 of the plane: p(x, y) = x y
+    >>> points = np.array([[1.0, 0.0], [2.0, 0.0], [0.0, 1.0], [0.0, -3.0]])
+    >>> np.round(vanishing_polynomials(points, 2), 6) + 0.0
+    array([[0., 1., 0.]])
+    """
+    singular_values, vectors = embedded_spectrum(points, degree)
+    n_polynomials = null_space_dimension(singular_values)
+    return canonical_sign(vectors[:, :n_polynomials].T)
+
+
+def unit_gradients(points, coef, degree):
+    """Unit gradients ``Dp(x) / ||Dp(x)||`` of the polynomial ``coef`` at ``points``.
+
+    Section 2.2.3: the normal at each point. Computed in chunks of rows;
+    zero gradients stay zero.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_samples, n_features)
+        Points, one per row.
+    coef : ndarray of shape (n_monomials,)
+        Coefficients of the polynomial.
+    degree : int
+        Its degree.
+
+    Returns
+    -------
+    normals : ndarray of shape (n_samples, n_features)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.stages import (
+    ...     unit_rows, vanishing_polynomials, unit_gradients)
+    >>> rng = np.random.RandomState(0)
+    >>> # two planes of R^3: z = 0 and x = 0
+    >>> unit = unit_rows(np.vstack([rng.randn(20, 3) * [1, 1, 0],
+    ...                             rng.randn(20, 3) * [0, 1, 1]]))
+    >>> coef = vanishing_polynomials(unit, 2)[0]  # the polynomial x z
+    >>> np.abs(unit_gradients(unit, coef, 2)[[0, -1]]).round(3)
+    array([[0., 0., 1.],
+           [1., 0., 0.]])
+    """
+    normals = np.empty_like(points)
+    for rows in row_chunks(points.shape[0]):
+        normals[rows] = unit_rows(polynomial_gradients(points[rows], coef, degree))
+    return normals
+
+
+def polynomial_normal_bases(points, coefs, degree, tol):
     """Normal subspace at each point from the gradients of several polynomials.
 
     Parameters
@@ -89,9 +166,9 @@ def polynomial_normal_bases(points, coefs, degree, rank_tol):
         Orthonormal coefficient vectors of the vanishing polynomials.
     degree : int
         Their degree.
-    rank_tol : float
+    tol : float
         A direction of the ``(n_polynomials, n_features)`` gradient matrix
-        ``[Dp_1(x_i); ...]`` with singular value ``s_l <= rank_tol * s_1`` is
+        ``[Dp_1(x_i); ...]`` with singular value ``s_l <= tol * s_1`` is
         noise; the others span the normal subspace (at least one does).
 
     Returns
@@ -106,10 +183,11 @@ def polynomial_normal_bases(points, coefs, degree, rank_tol):
     n_samples, n_features = points.shape
     bases = np.zeros((n_samples, n_features, n_features))
     codims = np.ones(n_samples, dtype=np.intp)
-    for rows in row_chunks(n_samples):
+    per_row = 3 * 8 * coefs.shape[1] * n_features
+    for rows in row_chunks(n_samples, chunk_rows(per_row)):
         gradients = polynomial_gradients(points[rows], coefs, degree)
         _, values, vt = np.linalg.svd(gradients, full_matrices=False)
-        keep = values > rank_tol * values[:, :1]
+        keep = values > tol * values[:, :1]
         keep[:, 0] = True
         keep[:, n_features - 1 :] = False
         width = vt.shape[1]

@@ -12,20 +12,161 @@ from sklearn.base import (
     TransformerMixin,
     _fit_context,
 )
-from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils import check_array, check_random_state
-from sklearn.utils._param_validation import Interval, StrOptions
-from sklearn.utils.extmath import svd_flip
+from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 from sklearn.utils.validation import check_is_fitted, validate_data
 
-from sklearn_gpca import _als, _varpro
-from sklearn_gpca._als import squared_residual
-from sklearn_gpca._completion_rank import (
-    max_completion_rank,
-    select_completion_rank,
-)
-from sklearn_gpca._least_squares import fit_rows
+from sklearn_gpca._factorization import factorise, project
 from sklearn_gpca._missing import describe_indices, masked_to_nan
+
+_PARAMETERS = {
+    "n_components": [Interval(Integral, 1, None, closed="left")],
+    "whiten": ["boolean"],
+    "solver": [StrOptions({"varpro", "als"})],
+    "completion_rank": [
+        Interval(Integral, 1, None, closed="left"),
+        StrOptions({"auto"}),
+        None,
+    ],
+    "n_init": [Interval(Integral, 1, None, closed="left")],
+    "max_iter": [Interval(Integral, 1, None, closed="left")],
+    "tol": [Interval(Real, 0, None, closed="left")],
+    "max_init_samples": [Interval(Integral, 1, None, closed="left"), None],
+    "random_state": ["random_state"],
+    "verbose": ["verbose"],
+}
+
+
+# the parameters handed to factorise as they are
+_SOLVER_PARAMETERS = (
+    "solver",
+    "completion_rank",
+    "n_init",
+    "max_iter",
+    "tol",
+    "max_init_samples",
+)
+
+
+@validate_params(
+    {"X": ["array-like"], **_PARAMETERS}, prefer_skip_nested_validation=True
+)
+def power_factorization(
+    X,
+    n_components=5,
+    *,
+    whiten=True,
+    solver="varpro",
+    completion_rank=None,
+    n_init=10,
+    max_iter=500,
+    tol=1e-7,
+    max_init_samples=1000,
+    random_state=None,
+    verbose=0,
+):
+    """Rank-r factorisation of trajectories with missing entries.
+
+    The function behind :class:`PowerFactorization`: fits ``X ~ Z diag(s) V``
+    to the observed entries of ``X`` (equation (8) of Vidal & Hartley, 2004)
+    and returns the coordinates of every row. Read more in the documentation
+    of :class:`PowerFactorization`, whose parameters are the same.
+
+    Parameters
+    ----------
+    X : array-like or masked array of shape (n_samples, n_features)
+        Trajectories, one per row; missing entries are NaN (or masked).
+
+    n_components : int, default=5
+        Rank ``r`` of the factorisation.
+
+    whiten : bool, default=True
+        Return the paper's whitened coordinates (True) or the plain
+        projections on the components.
+
+    solver : {"varpro", "als"}, default="varpro"
+        Minimiser of the squared residual over the observed entries.
+
+    completion_rank : int, "auto" or None, default=None
+        Rank at which the trajectories are completed before the projection.
+
+    n_init : int, default=10
+        Maximum number of random starts.
+
+    max_iter : int, default=500
+        Maximum number of iterations per start.
+
+    tol : float, default=1e-7
+        Relative decrease of the residual below which iterations stop.
+
+    max_init_samples : int or None, default=1000
+        Rows on which the random starts run when there are more.
+
+    random_state : int, RandomState instance or None, default=None
+        Seed of the random starts and of the subsample.
+
+    verbose : int, default=0
+        Print the progress when positive.
+
+    Returns
+    -------
+    Z : ndarray of shape (n_samples, n_components)
+        Coordinates of every row, as :meth:`PowerFactorization.transform`
+        returns them.
+
+    components : ndarray of shape (n_components, n_features)
+        Orthonormal basis of the fitted subspace.
+
+    singular_values : ndarray of shape (n_components,)
+        Singular values of the fitted matrix, in the units of ``X``.
+
+    See Also
+    --------
+    PowerFactorization : The same as an estimator, with ``transform`` for new
+        trajectories.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca import power_factorization
+    >>> rng = np.random.RandomState(0)
+    >>> X = rng.standard_normal((100, 3)) @ rng.standard_normal((3, 20))
+    >>> X[rng.rand(*X.shape) < 0.2] = np.nan
+    >>> Z, components, singular_values = power_factorization(
+    ...     X, n_components=3, random_state=0
+    ... )
+    >>> Z.shape, components.shape
+    ((100, 3), (3, 20))
+    >>> completed = (Z * singular_values) @ components
+    >>> bool(np.nanmax(np.abs(completed - X)) < 1e-6)
+    True
+    """
+    X = check_array(
+        masked_to_nan(X), dtype=[np.float64, np.float32], ensure_all_finite="allow-nan"
+    )
+    _check_params_vs_input(X, n_components, completion_rank, n_init, max_iter)
+    fit = factorise(
+        X,
+        n_components,
+        solver=solver,
+        completion_rank=completion_rank,
+        n_init=n_init,
+        max_iter=max_iter,
+        tol=tol,
+        max_init_samples=max_init_samples,
+        random_state=check_random_state(random_state),
+        log=_logger(verbose),
+    )
+    _warn_underdetermined(X, n_components)
+    Z = project(X, fit.components, fit.singular_values)[0][:, :n_components]
+    singular_values = fit.singular_values[:n_components]
+    if not whiten:
+        Z = Z * singular_values
+    return (
+        Z.astype(X.dtype, copy=False),
+        fit.components[:n_components].astype(X.dtype, copy=False),
+        singular_values.astype(X.dtype, copy=False),
+    )
 
 
 class PowerFactorization(
@@ -34,10 +175,11 @@ class PowerFactorization(
     """Rank-r factorisation of trajectories with missing entries.
 
     Fits ``X ~ Z diag(s) V`` minimising the squared error over the observed
-    entries of ``X`` (equation (8) of Vidal & Hartley, 2004) with the
-    PowerFactorization iteration, and projects trajectories (rows of ``X``,
-    possibly incomplete, possibly new) to their ``n_components`` coordinates
-    ``Z``. With complete data the fitted subspace is the truncated SVD's.
+    entries of ``X`` (equation (8) of [1]_), and projects
+    trajectories (rows of ``X``, possibly incomplete, possibly new) to their
+    ``n_components`` coordinates ``Z``. With complete data the fitted
+    subspace is the truncated SVD's. :func:`power_factorization` is the same
+    as a function.
 
     The data are never centred: motion subspaces are linear subspaces through
     the origin.
@@ -60,9 +202,10 @@ class PowerFactorization(
         Minimiser of the squared residual over the observed entries when
         entries are missing. "als" is the paper's PowerFactorization
         (alternating least squares); "varpro" is variable projection with
-        damped Gauss-Newton steps, which reaches the global optimum far
-        more often on real tracks. See Notes. With complete data both use
-        the power method.
+        damped Gauss-Newton and Newton steps, which reaches the global
+        optimum far more often on real tracks. Both cost
+        ``O(|observed| r^2 + (n_samples + n_features) r^3)`` per iteration;
+        see Notes. With complete data both use the power method.
 
     completion_rank : int, "auto" or None, default=None
         Rank ``q >= n_components`` of the factorisation fitted to the
@@ -74,12 +217,16 @@ class PowerFactorization(
         "auto" — the smallest rank within 5 % of the best error on held-out
         observed entries, searched from ``n_components`` up to
         ``3 n_components`` — fixes that. With complete training data "auto"
-        is ``n_components`` (the projection is then exact at any rank).
+        is ``n_components`` (the projection is then exact at any rank). An
+        int larger than ``n_samples`` or ``n_features`` is an error; one
+        larger than the number of trajectories observing some feature is
+        lowered to it, with a warning.
 
     n_init : int, default=10
-        Maximum number of random starts. Starts stop early once two of them
-        reach the same lowest residual (to a relative ``1e-4``); the best
-        fit is kept.
+        Maximum number of random starts. Each start first runs for a few
+        steps; the unfinished ones are then pursued lowest residual first,
+        and starts stop once two of them reach the same lowest residual (to
+        a relative ``1e-4``). The best fit is kept.
 
     max_iter : int, default=500
         Maximum number of iterations per start: alternations for "als",
@@ -87,15 +234,15 @@ class PowerFactorization(
 
     tol : float, default=1e-7
         Stop when the squared residual over the observed entries decreases
-        by less than ``tol`` times its value in one (accepted) iteration.
+        by less than ``tol`` times its value in one (accepted) iteration, or,
+        for "varpro", when a nearly undamped step is predicted to.
 
-    max_init_samples : int or None, default=5000
+    max_init_samples : int or None, default=1000
         With missing entries and more (well-observed) rows than this, the
-        random starts run on a uniform random subsample of this many rows;
-        the best of them is then polished on all rows by alternating least
-        squares until ``tol`` (beyond the paper; see Notes). None runs the
-        starts on all rows. Time is then linear in ``n_samples`` with a
-        constant set by the subsample.
+        random starts run on the ``max_init_samples`` rows with the most
+        observed entries; the best of them is then polished on all rows by
+        the same solver (beyond the paper; see Notes). None runs the starts
+        on all rows.
 
     random_state : int, RandomState instance or None, default=None
         Seed of the random starting bases and of the subsample.
@@ -106,7 +253,7 @@ class PowerFactorization(
     Attributes
     ----------
     components_ : ndarray of shape (n_components, n_features)
-        Orthonormal basis of the fitted subspace of ``R^{n_features}``,
+        Orthonormal basis of the fitted subspace of the feature space :math:`R^{2F}`,
         ordered by decreasing singular value.
 
     singular_values_ : ndarray of shape (n_components,)
@@ -126,12 +273,19 @@ class PowerFactorization(
         Held-out root mean square error of each rank tried when
         ``completion_rank="auto"`` (empty otherwise).
 
+    underdetermined_ : ndarray of shape (n_samples,), dtype=bool
+        True for the training trajectories observed in fewer than
+        ``n_components`` entries: their coordinates are fitted on the
+        leading directions their entries determine and are zero beyond (all
+        zero for a trajectory with no observed entry). See Notes for new
+        trajectories.
+
     n_iter_ : int
         Number of iterations run by the start that was kept.
 
     n_polish_iter_ : int
-        Number of alternating least-squares iterations polishing the kept
-        start on all rows (0 when the starts ran on all rows).
+        Number of iterations polishing the kept start on all rows (0 when
+        the starts ran on all rows).
 
     n_init_ : int
         Number of random starts run.
@@ -149,6 +303,7 @@ class PowerFactorization(
 
     See Also
     --------
+    power_factorization : The same as a function.
     sklearn.decomposition.PCA : Projection of complete, centred data.
     sklearn.decomposition.TruncatedSVD : Projection of complete data.
     sklearn.impute.IterativeImputer : Imputation of missing entries.
@@ -156,13 +311,13 @@ class PowerFactorization(
     Notes
     -----
     With ``W = X^T`` the ``2F x P`` measurement matrix of the paper, the
-    iteration alternates (1) the least-squares ``B`` given ``A`` over the
-    observed entries, one small ``r x r`` system per trajectory, (2) the
-    orthonormalisation of ``B``, (3) the least-squares ``A`` given ``B``, one
-    system per feature. All systems are solved in one batched call, so a
-    step costs ``O(P F r^2)``. With complete data (1) and (3) reduce to the
-    products ``W^T A`` and ``W B`` of the power method, which converges to the
-    best rank-r approximation at rate ``(s_{r+1} / s_r)^k``.
+    iteration of [1]_ and [2]_ alternates (1) the least-squares ``B`` given
+    ``A`` over the observed entries, one small ``r x r`` system per
+    trajectory, (2) the orthonormalisation of ``B``, (3) the least-squares
+    ``A`` given ``B``, one system per feature. With complete data (1) and (3)
+    reduce to the products ``W^T A`` and ``W B`` of the power method, which
+    converges to the best rank-r approximation at rate
+    ``(s_{r+1} / s_r)^k``.
 
     With missing entries, ``solver="als"`` runs that iteration, which can
     crawl for thousands of iterations along flat valleys and stop far from
@@ -173,44 +328,61 @@ class PowerFactorization(
     Levenberg-Marquardt on the ``n_features x r`` entries of ``A``, with the
     Ruhe-Wedin (RW2) approximation of the Jacobian, steps orthogonal to the
     gauge directions ``A K`` and ``A`` re-orthonormalised after each step
-    (Hong & Fitzgibbon, 2015). ``J^T J`` is accumulated over chunks of rows,
-    so time and memory grow linearly with ``n_samples``; one iteration
-    costs ``O(P n_features^2 r^2)`` plus the solve of an
-    ``n_features r``-square system. Random starts still end in local minima
-    on hard problems (about half the time on the Dinosaur sequence), hence
-    the restarts of ``n_init``, stopped once the best residual has been
-    reached twice (Hong & Fitzgibbon's meta-algorithm).
+    [3]_; once the decrease slows down, the steps use
+    the exact Hessian (Newton), which converges quadratically where
+    Gauss-Newton converges linearly. The linear system of a step is solved
+    by conjugate gradients (as in [4]_) whose products cost
+    ``O(|observed| r)``, with the
+    block diagonal of the Gauss-Newton matrix as preconditioner, so nothing
+    of size ``(n_features r)^2`` is formed; on problems where conjugate
+    gradients need many products (few features, ill-conditioned: the
+    Dinosaur sequence) the ``(n_features r)``-square Gauss-Newton matrix
+    becomes the preconditioner once it is cheaper than the products it
+    saves. Random starts still end in local minima on hard problems, hence
+    the restarts of ``n_init``. Timings and success rates are in the
+    benchmarks (``benchmarks/results/lowrank.md`` and
+    ``benchmarks/results/frames.md``).
 
-    Large ``n_samples`` (beyond the paper). A Levenberg-Marquardt trial
-    costs about 9 s on a million rows of 20 features, and the restarts and
-    races run a hundred or more of them. Above ``max_init_samples`` rows they
-    run on a random subsample; the winning basis is then refined on all rows
-    by the paper's alternating least squares (``O(P n_features r^2)`` per
-    iteration, about 1 s per million rows), which from a start that near
-    the optimum converges in a few iterations to a stationary point of the
-    full residual (8). The subsample must observe every column at least
-    ``q`` times, otherwise all rows are used. Memory stays ``O(P n_features)``:
-    the per-row ``r x r`` systems are solved in chunks of rows.
+    Large ``n_samples`` (beyond the paper). Above ``max_init_samples`` rows
+    the restarts run on the best-observed rows; the winning basis is then
+    refined on all rows, which from a start that near the optimum takes a
+    few iterations. The subsample must observe every feature at least ``q``
+    times, otherwise all rows are used. Memory stays ``O(n_samples
+    n_features)``.
+
+    What the observed entries cannot determine. A feature (frame
+    coordinate) observed in fewer than ``n_components`` trajectories (after
+    leaving out trajectories observed in fewer than ``n_components`` of the
+    remaining features, repeatedly) cannot be fitted: it is left out of the
+    fit with a warning, and its entries of the basis are the minimum-norm fit
+    to its few observed entries (zero for a feature never observed).
+    Trajectories observed in fewer than ``q`` entries do not inform the
+    basis. When the observed entries fall apart
+    into groups of trajectories and features that share no entry, the fit
+    does not determine the completion between groups, and a warning says so.
 
     ``transform`` solves the same per-row least-squares problem against the
     fitted rank-q basis and keeps the leading ``n_components`` coordinates,
-    so training and new trajectories are projected alike. A row observed in
-    ``k < q`` entries is fitted on the leading ``k`` directions; rows need at
-    least ``n_components`` observed entries. Only rows observed in at least
-    ``q`` entries inform the basis.
+    so training and new trajectories are projected alike. A trajectory
+    observed in ``k < q`` entries is fitted on the leading ``k`` directions,
+    with zeros beyond; one with no observed entry gets zeros. Such rows
+    never raise: for the training data ``underdetermined_`` flags those with
+    ``k < n_components``, and for new data the same flag is
+    ``np.sum(~np.isnan(X), axis=1) < n_components``. The data are rescaled
+    internally, so the results do not depend on the units of ``X``.
 
     References
     ----------
-    R. Vidal and R. Hartley, "Motion Segmentation with Missing Data using
-    PowerFactorization and GPCA", CVPR 2004.
-
-    J. H. Hong and A. Fitzgibbon, "Secrets of Matrix Factorization:
-    Approximations, Numerics, Manifold Optimization and Random Restarts",
-    ICCV 2015.
-
-    R. Hartley and F. Schaffalitzky, "PowerFactorization: 3D reconstruction
-    with missing or uncertain data", Australia-Japan Advanced Workshop on
-    Computer Vision, 2003.
+    .. [1] R. Vidal and R. Hartley, "Motion Segmentation with Missing Data
+       using PowerFactorization and GPCA", CVPR 2004.
+    .. [2] R. Hartley and F. Schaffalitzky, "PowerFactorization: 3D
+       reconstruction with missing or uncertain data", Australia-Japan
+       Advanced Workshop on Computer Vision, 2003.
+    .. [3] J. H. Hong and A. Fitzgibbon, "Secrets of Matrix Factorization:
+       Approximations, Numerics, Manifold Optimization and Random Restarts",
+       ICCV 2015.
+    .. [4] N. Boumal and P.-A. Absil, "RTRMC: A Riemannian trust-region method
+       for low-rank matrix completion", NIPS 2011.
 
     Examples
     --------
@@ -227,22 +399,7 @@ class PowerFactorization(
     True
     """
 
-    _parameter_constraints: dict = {
-        "n_components": [Interval(Integral, 1, None, closed="left")],
-        "whiten": ["boolean"],
-        "solver": [StrOptions({"varpro", "als"})],
-        "completion_rank": [
-            Interval(Integral, 1, None, closed="left"),
-            StrOptions({"auto"}),
-            None,
-        ],
-        "n_init": [Interval(Integral, 1, None, closed="left")],
-        "max_iter": [Interval(Integral, 1, None, closed="left")],
-        "tol": [Interval(Real, 0, None, closed="left")],
-        "max_init_samples": [Interval(Integral, 1, None, closed="left"), None],
-        "random_state": ["random_state"],
-        "verbose": ["verbose"],
-    }
+    _parameter_constraints: dict = dict(_PARAMETERS)
 
     def __init__(
         self,
@@ -254,7 +411,7 @@ class PowerFactorization(
         n_init=10,
         max_iter=500,
         tol=1e-7,
-        max_init_samples=5000,
+        max_init_samples=1000,
         random_state=None,
         verbose=0,
     ):
@@ -286,81 +443,27 @@ class PowerFactorization(
         self : object
             Fitted estimator.
         """
-        X = validate_data(
-            self,
-            masked_to_nan(X),
-            dtype=[np.float64, np.float32],
-            ensure_all_finite="allow-nan",
+        X = self._validate(X, reset=True)
+        _check_params_vs_input(
+            X, self.n_components, self.completion_rank, self.n_init, self.max_iter
         )
-        n_samples, n_features = X.shape
-        if self.n_components > n_features:
-            raise ValueError(
-                f"n_components={self.n_components} must be at most "
-                f"n_features={n_features}."
-            )
-        if self.n_components > n_samples:
-            raise ValueError(
-                f"n_components={self.n_components} must be at most "
-                f"n_samples={n_samples}."
-            )
-        X0, mask = _zero_filled(X)
-        if mask is not None:
-            self._check_observed(mask, axis=1, what="row")
-            self._check_observed(mask, axis=0, what="column")
-
-        solve = _varpro.power_factorization
-        if self.solver == "als":
-            solve = _als.power_factorization
-        random_state = check_random_state(self.random_state)
-        rank, self.completion_errors_ = self._choose_rank(X0, mask, random_state)
-        # Rows observed in fewer than `rank` entries cannot inform a rank-q
-        # basis; they are projected afterwards at the rank they support.
-        fitted_rows = slice(None) if mask is None else mask.sum(axis=1) >= rank
-        X_fit = X0[fitted_rows]
-        mask_fit = None if mask is None else mask[fitted_rows]
-        X_start, mask_start = X_fit, mask_fit
-        subsample = self._subsample(mask_fit, rank, random_state)
-        if subsample is not None:
-            X_start, mask_start = X_fit[subsample], mask_fit[subsample]
-        best, self.n_init_ = self._best_start(
-            solve, X_start, mask_start, rank, random_state
+        fit = factorise(
+            X,
+            self.n_components,
+            **{name: getattr(self, name) for name in _SOLVER_PARAMETERS},
+            random_state=check_random_state(self.random_state),
+            log=_logger(self.verbose),
         )
-        _, A, self.n_iter_, converged = best
-        self.n_polish_iter_ = 0
-        if subsample is not None:
-            self._log(f"polishing the best start on all {X_fit.shape[0]} rows")
-            _, A, self.n_polish_iter_, converged = _als.power_factorization(
-                X_fit,
-                mask_fit,
-                rank,
-                max_iter=self.max_iter,
-                tol=self.tol,
-                random_state=random_state,
-                log=self._log,
-                init=A,
-            )
-        if not converged:
-            warnings.warn(
-                f"PowerFactorization did not converge in max_iter={self.max_iter}"
-                " iterations; increase max_iter or tol.",
-                ConvergenceWarning,
-                stacklevel=2,
-            )
-        # B has orthonormal columns, so the SVD of the fit B A^T is B u s vt
-        # with u s vt the SVD of the small rank x n_features matrix A^T.
-        u, s, vt = np.linalg.svd(A.T, full_matrices=False)
-        u, vt = svd_flip(u, vt, u_based_decision=False)
-        self.completion_rank_ = rank
-        self.completion_components_ = vt.astype(X.dtype, copy=False)
-        self.completion_singular_values_ = s.astype(X.dtype, copy=False)
+        self.completion_rank_ = fit.components.shape[0]
+        self.completion_components_ = fit.components.astype(X.dtype, copy=False)
+        self.completion_singular_values_ = fit.singular_values.astype(X.dtype)
         self.components_ = self.completion_components_[: self.n_components]
         self.singular_values_ = self.completion_singular_values_[: self.n_components]
-
-        residual = X0 - self._coordinates(X0, mask) @ self._completion_basis()
-        if mask is not None:
-            residual *= mask
-        n_observed = X0.size if mask is None else mask.sum()
-        self.reconstruction_err_ = float(np.sqrt(np.sum(residual**2) / n_observed))
+        self.completion_errors_ = fit.completion_errors
+        self.n_iter_, self.n_polish_iter_ = fit.n_iter, fit.n_polish_iter
+        self.n_init_ = fit.n_init
+        self.underdetermined_ = _warn_underdetermined(X, self.n_components)
+        _, self.reconstruction_err_ = project(X, fit.components, fit.singular_values)
         return self
 
     def transform(self, X):
@@ -370,7 +473,9 @@ class PowerFactorization(
         ----------
         X : array-like or masked array of shape (n_samples, n_features)
             Trajectories, one per row; missing entries are NaN (or masked).
-            Each row needs at least ``n_components`` observed entries.
+            A row observed in fewer entries than the completion rank is
+            fitted on the leading directions it determines (zeros beyond, all
+            zeros for a row with no observed entry); see Notes.
 
         Returns
         -------
@@ -378,17 +483,11 @@ class PowerFactorization(
             Least-squares coordinates of each row over its observed entries.
         """
         check_is_fitted(self)
-        X = validate_data(
-            self,
-            masked_to_nan(X),
-            dtype=[np.float64, np.float32],
-            ensure_all_finite="allow-nan",
-            reset=False,
-        )
-        X0, mask = _zero_filled(X)
-        if mask is not None:
-            self._check_observed(mask, axis=1, what="row")
-        Z = self._coordinates(X0, mask)[:, : self.n_components]
+        X = self._validate(X, reset=False)
+        Z, _ = project(X, self.completion_components_, self.completion_singular_values_)
+        Z = Z[:, : self.n_components]
+        if not self.whiten:
+            Z = Z * self.singular_values_
         return Z.astype(X.dtype, copy=False)
 
     def inverse_transform(self, X):
@@ -405,8 +504,17 @@ class PowerFactorization(
             The rank-r reconstruction of every entry, observed or missing.
         """
         check_is_fitted(self)
-        X = _check_coordinates(X, self.n_components)
-        return X @ self._basis().astype(X.dtype, copy=False)
+        Z = check_array(X, dtype=[np.float64, np.float32])
+        if Z.shape[1] != self.n_components:
+            raise ValueError(
+                f"X has {Z.shape[1]} features, but PowerFactorization."
+                f"inverse_transform expects n_components={self.n_components} "
+                "coordinates per row."
+            )
+        basis = self.components_
+        if self.whiten:
+            basis = self.singular_values_[:, None] * basis
+        return Z @ basis.astype(Z.dtype, copy=False)
 
     @property
     def _n_features_out(self):
@@ -418,135 +526,65 @@ class PowerFactorization(
         tags.transformer_tags.preserves_dtype = ["float64", "float32"]
         return tags
 
-    def _best_start(self, solve, X0, mask, rank, random_state):
-        """Best of up to ``n_init`` random starts, stopping once reached twice.
-
-        Returns the solver's output for the best start and the number of
-        starts run.
-        """
-        total = np.einsum("ij,ij->", X0, X0)
-        best, best_residual, n_best = None, np.inf, 0
-        for n_init in range(1, self.n_init + 1):
-            fit = solve(
-                X0,
-                mask,
-                rank,
-                max_iter=self.max_iter,
-                tol=self.tol,
-                random_state=random_state,
-                log=self._log,
-            )
-            residual = squared_residual(X0, mask, fit[0], fit[1], total)
-            # two fits agree to 1e-4 relative (or both fit to round-off)
-            margin = 1e-4 * min(residual, best_residual) + 1e-20 * total
-            if residual < best_residual - margin:
-                best, best_residual, n_best = fit, residual, 1
-            elif residual <= best_residual + margin:
-                n_best += 1
-            self._log(
-                f"start {n_init}, squared residual {residual:.6g}, "
-                f"best {best_residual:.6g} reached {n_best} times"
-            )
-            if n_best >= 2 or best_residual <= 1e-28 * total:
-                break
-        return best, n_init
-
-    def _choose_rank(self, X0, mask, random_state):
-        """Completion rank and the held-out errors that chose it."""
-        if self.completion_rank is None:
-            return self.n_components, {}
-        if mask is None:
-            if self.completion_rank == "auto":
-                return self.n_components, {}
-            return min(max(self.completion_rank, self.n_components), *X0.shape), {}
-        limit = 3 * self.n_components
-        if self.completion_rank != "auto":
-            limit = max(self.completion_rank, self.n_components)
-        limit = max_completion_rank(mask, self.n_components, limit)
-        if self.completion_rank != "auto":
-            return limit, {}
-        return select_completion_rank(X0, mask, self.n_components, limit, random_state)
-
-    def _subsample(self, mask, rank, random_state):
-        """Rows on which the random starts run, or None for all rows."""
-        if mask is None or self.max_init_samples is None:
-            return None
-        n_rows = mask.shape[0]
-        if n_rows <= self.max_init_samples:
-            return None
-        rows = np.sort(
-            random_state.choice(n_rows, self.max_init_samples, replace=False)
+    def _validate(self, X, *, reset):
+        return validate_data(
+            self,
+            masked_to_nan(X),
+            dtype=[np.float64, np.float32],
+            ensure_all_finite="allow-nan",
+            reset=reset,
         )
-        if mask[rows].sum(axis=0).min() < rank:
-            return None  # a column too rarely observed in the subsample
-        return rows
 
-    def _completion_basis(self):
-        """Rows map rank-q coordinates to trajectories."""
-        basis = self.completion_components_.astype(np.float64)
-        if self.whiten:
-            return self.completion_singular_values_[:, None] * basis
-        return basis
 
-    def _coordinates(self, X0, mask):
-        """Rank-q least-squares coordinates of every row.
-
-        A row observed in ``k < q`` entries gets the coordinates of the
-        leading ``k`` directions (and zeros beyond): the most its entries
-        determine.
-        """
-        basis = self._completion_basis()
-        if mask is None:
-            return fit_rows(X0, None, basis)
-        rank = basis.shape[0]
-        supported = np.minimum(mask.sum(axis=1), rank).astype(int)
-        Z = np.zeros((X0.shape[0], rank))
-        for k in np.unique(supported):
-            rows = supported == k
-            Z[rows, :k] = fit_rows(X0[rows], mask[rows], basis[:k])
-        return Z
-
-    def _basis(self):
-        """Rows map coordinates to trajectories: ``X ~ Z @ basis``."""
-        if self.whiten:
-            return self.singular_values_[:, None] * self.components_
-        return self.components_
-
-    def _check_observed(self, mask, *, axis, what):
-        counts = mask.sum(axis=axis)
-        short = np.flatnonzero(counts < self.n_components)
-        if short.size:
-            empty = np.count_nonzero(counts[short] == 0)
+def _check_params_vs_input(X, n_components, completion_rank, n_init, max_iter):
+    """Checks of the parameters that param validation cannot make."""
+    for name, value in [
+        ("n_components", n_components),
+        ("completion_rank", completion_rank),
+        ("n_init", n_init),
+        ("max_iter", max_iter),
+    ]:
+        if isinstance(value, (bool, np.bool_)):
             raise ValueError(
-                f"Every {what} needs at least n_components={self.n_components} "
-                f"observed entries to determine its coordinates; "
-                f"{describe_indices(short)} {what}s have fewer ({empty} of them "
-                f"have none). Remove them or lower n_components."
+                f"The {name!r} parameter of PowerFactorization must be an int, "
+                f"not a bool; got {value!r}."
             )
-
-    def _log(self, message):
-        if self.verbose:
-            print(f"[PowerFactorization] {message}")
-
-
-def _zero_filled(X):
-    """Return ``X`` in float64 with NaN set to 0, and the observed mask.
-
-    The mask is None when nothing is missing, which selects the fast
-    complete-data route.
-    """
-    X0 = X.astype(np.float64, copy=False)
-    missing = np.isnan(X0)
-    if not missing.any():
-        return X0, None
-    return np.where(missing, 0.0, X0), (~missing).astype(np.float64)
+    n_samples, n_features = X.shape
+    for name, value in [
+        ("n_components", n_components),
+        ("completion_rank", completion_rank),
+    ]:
+        if not isinstance(value, Integral):
+            continue
+        if value > n_features:
+            raise ValueError(f"{name}={value} must be at most n_features={n_features}.")
+        if value > n_samples:
+            raise ValueError(f"{name}={value} must be at most n_samples={n_samples}.")
 
 
-def _check_coordinates(Z, n_components):
-    Z = check_array(Z, dtype=[np.float64, np.float32])
-    if Z.shape[1] != n_components:
-        raise ValueError(
-            f"X has {Z.shape[1]} features, but PowerFactorization.inverse_transform "
-            f"expects n_components={n_components} coordinates per row."
+def _warn_underdetermined(X, n_components):
+    """Rows observed in fewer than ``n_components`` entries, with a warning."""
+    counts = np.sum(~np.isnan(X), axis=1)
+    short = np.flatnonzero(counts < n_components)
+    if short.size:
+        empty = np.count_nonzero(counts[short] == 0)
+        warnings.warn(
+            f"{describe_indices(short)} trajectories are observed in fewer than "
+            f"n_components={n_components} entries ({empty} of them in none): "
+            "their coordinates are fitted on the leading directions their "
+            "entries determine and are zero beyond; underdetermined_ flags "
+            "them.",
+            UserWarning,
+            stacklevel=4,
         )
-    return Z
+    return counts < n_components
+
+
+def _logger(verbose):
+    if not verbose:
+        return _silent
+    return lambda message: print(f"[PowerFactorization] {message}")
+
+
+def _silent(message):
+    pass

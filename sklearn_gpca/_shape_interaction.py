@@ -2,14 +2,13 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
-from numbers import Integral
-
 import numpy as np
 from sklearn.base import BaseEstimator, ClusterMixin, _fit_context
 from sklearn.cluster import SpectralClustering
 from sklearn.utils import check_array
-from sklearn.utils._param_validation import Interval
 from sklearn.utils.validation import validate_data
+
+from sklearn_gpca._validation import Count
 
 
 def shape_interaction_matrix(X, rank):
@@ -104,8 +103,8 @@ class ShapeInteractionClustering(ClusterMixin, BaseEstimator):
     """
 
     _parameter_constraints: dict = {
-        "n_clusters": [Interval(Integral, 1, None, closed="left")],
-        "rank": [Interval(Integral, 1, None, closed="left"), None],
+        "n_clusters": [Count(1, None, closed="left")],
+        "rank": [Count(1, None, closed="left"), None],
         "random_state": ["random_state"],
     }
 

@@ -6,15 +6,21 @@ The GPCA similarity of Vidal & Hartley (CVPR 2004, section 2.2.3) is
 ``Phi`` of shape ``(P, K(K + 1) / 2)``. The Ng-Jordan-Weiss algorithm then runs
 without ever forming the ``P x P`` affinity: the degrees are ``Phi (Phi^T 1)``
 and the leading eigenvectors of ``D^{-1/2} S D^{-1/2}`` are the leading left
-singular vectors of ``D^{-1/2} Phi``.
+singular vectors of ``D^{-1/2} Phi``. The same embedding of a sparse
+nearest-neighbour affinity comes from Lanczos iterations; both are turned
+into labels by k-means on the unit rows of the eigenvectors.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import ArpackNoConvergence, eigsh, lobpcg
 from sklearn.cluster import KMeans
 
-_TINY = np.finfo(np.float64).tiny
+from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._memory import chunk_rows
+from sklearn_gpca._rows import TINY, unit_rows
 
 
 def normal_subspace_features(normals):
@@ -33,6 +39,8 @@ def normal_subspace_features(normals):
         Upper-triangular entries of ``P_i = N_i N_i^T``, off-diagonal entries
         multiplied by ``sqrt(2)``, so that ``features @ features.T`` equals
         ``tr(P_i P_j)``; for unit normals that is ``cos^2`` of their angle.
+        Computed in chunks of points whose temporaries fit in scikit-learn's
+        ``working_memory``.
 
     Examples
     --------
@@ -47,19 +55,19 @@ def normal_subspace_features(normals):
     normals = np.asarray(normals, dtype=np.float64)
     if normals.ndim == 2:
         normals = normals[:, :, None]
-    rows, cols = np.triu_indices(normals.shape[1])
+    n_samples, n_features, n_columns = normals.shape
+    rows, cols = np.triu_indices(n_features)
     weights = np.where(rows == cols, 1.0, np.sqrt(2.0))
-    products = np.einsum("pdj,pdj->pd", normals[:, rows], normals[:, cols])
-    return products * weights
+    features = np.empty((n_samples, rows.size))
+    # both gathered factors of a chunk of points fit in working_memory
+    for chunk in row_chunks(n_samples, chunk_rows(2 * 8 * rows.size * n_columns)):
+        part = normals[chunk]
+        features[chunk] = np.einsum("pdj,pdj->pd", part[:, rows], part[:, cols])
+    return features * weights
 
 
-def _normalize_rows(vectors):
-    norms = np.linalg.norm(vectors, axis=1, keepdims=True)
-    return vectors / np.maximum(norms, _TINY)
-
-
-def spectral_embedding_lowrank(features, n_components):
-    """Ng-Jordan-Weiss embedding of the affinity ``features @ features.T``.
+def lowrank_eigenvectors(features, n_components):
+    """Leading eigenvectors of ``D^{-1/2} S D^{-1/2}``, ``S = features @ features.T``.
 
     Parameters
     ----------
@@ -72,25 +80,82 @@ def spectral_embedding_lowrank(features, n_components):
 
     Returns
     -------
-    embedding : ndarray of shape (n_samples, min(n_components, n_dims))
-        Leading eigenvectors of ``D^{-1/2} S D^{-1/2}``, rows scaled to unit
-        norm. Time and memory are ``O(n_samples * n_dims^2)``.
+    vectors : ndarray of shape (n_samples, min(n_components, n_dims))
+        The leading left singular vectors of ``D^{-1/2} Phi``, largest first;
+        zero rows for isolated points (zero degree). Time and memory are
+        ``O(n_samples * n_dims^2)``; the ``P x P`` matrix is never formed.
     """
     features = np.asarray(features, dtype=np.float64)
     degrees = features @ features.sum(axis=0)
     # A point with zero degree is isolated: its row stays zero.
-    scaled = features / np.sqrt(np.maximum(degrees, _TINY))[:, None]
+    scaled = features / np.sqrt(np.maximum(degrees, TINY))[:, None]
     left, _, _ = np.linalg.svd(scaled, full_matrices=False)
     left = left[:, :n_components]
     left[degrees <= 0] = 0.0
-    return _normalize_rows(left)
+    return left
 
 
-def _assign_labels(embedding, n_clusters, n_init, random_state):
+def leading_eigenvectors(affinity, n_components, random_state):
+    """Leading eigenvectors of ``D^{-1/2} A D^{-1/2}`` for a sparse affinity.
+
+    ARPACK (Lanczos); LOBPCG when it does not converge.
+
+    Parameters
+    ----------
+    affinity : scipy.sparse matrix of shape (n_samples, n_samples)
+        Symmetric non-negative affinity.
+    n_components : int
+        Number of eigenvectors, ``< n_samples``.
+    random_state : RandomState instance
+        Draws the Lanczos start vector.
+
+    Returns
+    -------
+    vectors : ndarray of shape (n_samples, n_components)
+        Largest eigenvalue first, so the first ``m`` columns span the
+        ``m``-eigenvector space; zero rows for isolated points.
+    """
+    n_samples = affinity.shape[0]
+    degrees = np.asarray(affinity.sum(axis=1)).ravel()
+    inv_sqrt = 1.0 / np.sqrt(np.maximum(degrees, TINY))
+    scaling = sp.diags(inv_sqrt)
+    normalized = scaling @ affinity @ scaling
+    start = random_state.uniform(-1, 1, n_samples)
+    try:
+        values, vectors = eigsh(normalized, k=n_components, which="LA", v0=start)
+    except ArpackNoConvergence:
+        # clustered leading eigenvalues (a graph with many components): LOBPCG
+        # from a random block, still O(n_samples * n_neighbors) per iteration
+        block = random_state.standard_normal((n_samples, n_components))
+        values, vectors = lobpcg(normalized, block, largest=True, tol=1e-8, maxiter=500)
+    # leading first
+    vectors = vectors[:, np.argsort(values)[::-1]]
+    vectors[degrees <= 0] = 0.0
+    return vectors
+
+
+def embedding_kmeans(vectors, n_clusters, *, n_init, random_state):
+    """Labels from eigenvectors: k-means on their unit rows (Ng, Jordan & Weiss).
+
+    Parameters
+    ----------
+    vectors : ndarray of shape (n_samples, n_components)
+        Leading eigenvectors of a normalised affinity.
+    n_clusters : int
+        Number of clusters.
+    n_init : int
+        Number of k-means runs with different centroid seeds.
+    random_state : int, RandomState instance or None
+        Seeds k-means.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+    """
     if n_clusters == 1:
-        return np.zeros(embedding.shape[0], dtype=np.intp)
+        return np.zeros(vectors.shape[0], dtype=np.intp)
     kmeans = KMeans(n_clusters=n_clusters, n_init=n_init, random_state=random_state)
-    return kmeans.fit_predict(embedding).astype(np.intp)
+    return kmeans.fit_predict(unit_rows(vectors)).astype(np.intp)
 
 
 def spectral_clustering_lowrank(features, n_clusters, *, n_init=10, random_state=None):
@@ -122,5 +187,7 @@ def spectral_clustering_lowrank(features, n_clusters, *, n_init=10, random_state
     >>> spectral_clustering_lowrank(phi, 3, random_state=0).reshape(3, 4).std(1)
     array([0., 0., 0.])
     """
-    embedding = spectral_embedding_lowrank(features, n_clusters)
-    return _assign_labels(embedding, n_clusters, n_init, random_state)
+    vectors = lowrank_eigenvectors(features, n_clusters)
+    return embedding_kmeans(
+        vectors, n_clusters, n_init=n_init, random_state=random_state
+    )

@@ -1,69 +1,65 @@
-"""Variable projection for low-rank fits with missing entries.
+"""Variable projection for low-rank fits with missing entries, matrix-free.
 
 Damped Gauss-Newton (Levenberg-Marquardt) on the reduced problem in which the
 per-trajectory coordinates are eliminated in closed form, as in Ruhe & Wedin
 (1980), Okatani & Deguchi's Wiberg algorithm (2007) and the unified
-variable-projection algorithm of Hong & Fitzgibbon (ICCV 2015) and Hong,
-Zach & Fitzgibbon (CVPR 2017). Same calling convention as
-:func:`sklearn_gpca._als.power_factorization`.
+variable-projection algorithm of Hong & Fitzgibbon (ICCV 2015), with the
+linear system of every step solved by preconditioned conjugate gradients on
+the manifold of bases (as in Boumal & Absil's RTRMC, 2011), so that nothing
+of size ``(n_features r)^2`` is formed. Same calling convention as
+:func:`sklearn_gpca._als.als`.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
 
-import itertools
-
 import numpy as np
-from scipy import linalg, sparse
+from scipy import linalg
 
-from sklearn_gpca import _als
-from sklearn_gpca._chunks import row_chunks
-from sklearn_gpca._least_squares import _RIDGE
-
-# Floats per temporary of shape (rows in a chunk, n_features, n_features) in
-# the dense accumulation of J^T J: 2**22 float64 are 32 MiB, whatever the
-# number of rows.
-_CHUNK_FLOATS = 2**22
-# Pairs of observed entries of a row per chunk in the sparse accumulation,
-# and the most pairs whose indices are kept from one iteration to the next.
-_CHUNK_PAIRS = 2**19
-_CACHED_PAIRS = 2**22
-# The sparse accumulation is used when the pairs of observed entries in a
-# row are fewer than this fraction of all pairs of columns.
-_SPARSE_DENSITY = 0.3
+from sklearn_gpca._als import als
+from sklearn_gpca._gauss_newton import GaussNewtonMatrix, factorisation_flops
+from sklearn_gpca._least_squares import fits_exactly, inverse_row_grams, row_grams
 
 # Levenberg-Marquardt damping lambda * I, relative to the mean diagonal of
 # J^T J, divided by 10 after a successful step and multiplied by 10 after a
-# failed one, as in Hong & Fitzgibbon's DRW2P (whose absolute 1e-4 is nearly
-# undamped Gauss-Newton on pixel data). The starting value makes little
-# difference to where a start ends (4/10 on Dino_trimmed from 1e2 to 1e-12).
+# failed one, as in Hong & Fitzgibbon's DRW2P.
 _LAMBDA_START = 1e-4
-# Random starts raced for _RACE_STEPS accepted steps, the best one pursued;
-# no race when max_iter < _RACE_MIN_ITER.
-_RACE = 4
-_RACE_STEPS = 20
-_RACE_MIN_ITER = 100
 _LAMBDA_MIN = 1e-15
 _LAMBDA_MAX = 1e16
+# Gauss-Newton steps until an accepted, nearly undamped step lowers the cost by
+# less than this fraction; Newton steps (exact Hessian) from then on, which
+# converge quadratically where Gauss-Newton converges linearly (large
+# residuals). Far from a minimum, or while the damping is still at work,
+# Newton steps lead random starts to poorer minima more often (a switch at 1e-2
+# without the damping condition halved the starts reaching the optimum of
+# Dino_trimmed; these values were set on it and on make_tracks sequences).
+_NEWTON_SWITCH = 1e-2
+_NEWTON_DAMPING = 1e-10
+# Conjugate gradients stop at this residual relative to the gradient, for
+# Gauss-Newton and for Newton steps (inexact Newton: a small forcing term
+# keeps the fast local convergence).
+_FORCING = 1e-1
+_NEWTON_FORCING = 1e-2
+# At most this many unknowns (n_features * r) for the dense Gauss-Newton
+# matrix (128 MiB), used as preconditioner once conjugate gradients cost more
+# than assembling and factorising it.
+_MAX_DENSE_UNKNOWNS = 2**12
 
 
-def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, log):
-    """Rank-``n_components`` factorisation ``X ~ B A^T`` by variable projection.
+def varpro(X0, mask, init, *, max_iter, tol, log):
+    """Rank-r factorisation ``X ~ B A^T`` by variable projection.
 
     For a basis ``A`` of the feature space, the coordinates of every row are
     the least-squares solution over its observed entries, so the squared
     residual is a function ``f(A)`` of ``A`` alone (in fact of its span). It
-    is minimised by Levenberg-Marquardt with the Ruhe-Wedin (RW2)
-    approximation of the Jacobian of the reduced residual, steps restricted
-    to the orthogonal complement of the gauge directions ``A K`` and ``A``
-    re-orthonormalised (retracted) after every step: Hong & Fitzgibbon's
-    DRW2P.
-
-    From a random start the iteration ends in a poor local minimum more
-    often than not on real tracks (about 6 starts in 10 on Dino_trimmed).
-    Those starts are told apart early: after ``_RACE_STEPS`` accepted steps
-    their residual is well above that of starts heading for the optimum. So
-    ``_RACE`` random starts are run for that many steps and only the one with
-    the lowest residual is pursued (when ``max_iter`` leaves room for it).
+    is minimised by Levenberg-Marquardt: Ruhe-Wedin (RW2) Gauss-Newton steps,
+    then Newton steps once the decrease slows down, restricted to the
+    orthogonal complement of the gauge directions ``A K``, with ``A``
+    re-orthonormalised (retracted) after every step. Each step solves its
+    linear system by preconditioned conjugate gradients whose products cost
+    ``O(|observed| r)``; the preconditioner is the block diagonal of the
+    Gauss-Newton matrix (``O(|observed| r^2 + n_features r^3)``), or the
+    whole dense matrix when conjugate gradients turn out to cost more than
+    its factorisation (few features and ill-conditioned problems).
 
     Parameters
     ----------
@@ -71,267 +67,280 @@ def power_factorization(X0, mask, n_components, *, max_iter, tol, random_state, 
         Data, with missing entries set to zero.
     mask : ndarray of shape (n_samples, n_features) or None
         1.0 where observed, 0.0 where missing; None for complete data, which
-        is handed to the power method of :mod:`sklearn_gpca._als` (the
-        optimum is then the truncated SVD and there is nothing to gain).
-    n_components : int
+        is handed to the power method of :func:`sklearn_gpca._als.als` (the
+        optimum is then the truncated SVD).
+    init : ndarray of shape (n_features, r)
+        Starting basis, orthonormal columns.
     max_iter : int
-        Maximum number of Levenberg-Marquardt trials, accepted or not, of
-        the returned start; each costs one evaluation of the residual, like
-        one ALS iteration. The starts dropped after the race are not
-        counted.
+        Maximum number of Levenberg-Marquardt trials, accepted or not; each
+        costs one evaluation of the residual, like one ALS iteration, plus
+        the conjugate-gradient products.
     tol : float
         Stop when an accepted step decreases the squared residual by less
-        than ``tol`` times its value.
-    random_state : numpy.random.RandomState
+        than ``tol`` times its value, or when a nearly undamped step is
+        predicted to.
     log : callable
         Called with a message per iteration (verbose output) or a no-op.
 
     Returns
     -------
-    B : ndarray of shape (n_samples, n_components)
+    B : ndarray of shape (n_samples, r)
         Orthonormal columns.
-    A : ndarray of shape (n_features, n_components)
+    A : ndarray of shape (n_features, r)
     n_iter : int
     converged : bool
     """
     if mask is None:
-        return _als.power_factorization(
-            X0,
-            mask,
-            n_components,
-            max_iter=max_iter,
-            tol=tol,
-            random_state=random_state,
-            log=log,
-        )
-    n_features = X0.shape[1]
-    layout = _Layout(mask, n_components)
-    n_race = _RACE if max_iter >= _RACE_MIN_ITER else 1
-    starts = []
-    for k in range(n_race):
-        V, _ = np.linalg.qr(random_state.standard_normal((n_features, n_components)))
-        start = _Start(X0, mask, V, layout, tol, log)
-        if n_race > 1:
-            log(f"race, start {k + 1} of {n_race}")
-            start.run(max_iter, max_accepted=_RACE_STEPS)
-        starts.append(start)
-    best = min(starts, key=lambda start: start.cost)
-    if n_race > 1:
-        log(f"race won by start {starts.index(best) + 1}")
-    best.run(max_iter)
-    return best.result()
+        return als(X0, None, init, max_iter=max_iter, tol=tol, log=log)
+    return VarPro(X0, mask, init, tol=tol, log=log).run(max_iter).result()
 
 
-class _Start:
-    """Levenberg-Marquardt iterations from one starting basis."""
+class _Projection:
+    """Coordinates, inverse Gram matrices and residual of every row for ``V``."""
 
-    def __init__(self, X0, mask, V, layout, tol, log):
-        self.X0, self.mask, self.layout, self.tol, self.log = X0, mask, layout, tol, log
+    def __init__(self, X0, mask, V):
         self.V = V
-        self.U, self.inv_gram, self.cost = _project(X0, mask, V)
+        self.inv_gram = inverse_row_grams(mask, V.T)
+        self.U = _apply(self.inv_gram, X0 @ V)
+        self.residual = X0 - self.U @ V.T
+        self.residual *= mask
+        self.cost = np.einsum("ij,ij->", self.residual, self.residual)
+
+
+def _apply(matrices, vectors):
+    """``matrices[i] @ vectors[i]`` for every row ``i``."""
+    return np.matmul(matrices, vectors[:, :, None])[:, :, 0]
+
+
+class VarPro:
+    """Levenberg-Marquardt iterations from one starting basis.
+
+    Resumable: :meth:`run` may be called again with a larger budget.
+    """
+
+    def __init__(self, X0, mask, V, *, tol, log):
+        self.X0, self.mask, self.tol, self.log = X0, mask, tol, log
         self.total = np.einsum("ij,ij->", X0, X0)
+        self.state = _Projection(X0, mask, V)
         self.damping = _LAMBDA_START
-        self.system = None
+        self.newton = False
+        self.dense = None  # GaussNewtonMatrix once the dense route is taken
+        self.cg_flops = 0.0  # cost of the last conjugate-gradient solve
+        self.linearisation = None
         self.n_iter = 0
-        self.done = False
-        self.converged = False
+        self.n_products = 0
+        self._buffers = None  # two n_samples x n_features work arrays
+        self.done = self.converged = False
+
+    @property
+    def cost(self):
+        return self.state.cost
 
     def run(self, max_iter, max_accepted=None):
-        n_features, r = self.V.shape
-        diagonal = np.arange(n_features * r)
+        """Iterate until convergence, ``max_iter`` trials in all or
+        ``max_accepted`` more accepted steps."""
         accepted = 0
         while not self.done and self.n_iter < max_iter:
             if max_accepted is not None and accepted >= max_accepted:
-                return
+                break
             self.n_iter += 1
-            V = self.V
-            if self.system is None:
-                hessian, self.gradient = self.layout.normal_equations(
-                    self.X0, V, self.U, self.inv_gram
-                )
-                self.scale = max(
-                    np.trace(hessian) / hessian.shape[0], np.finfo(float).tiny
-                )
-                # Projection constraint: J^T J vanishes on the gauge
-                # directions V K; adding (V V^T) kron I makes the system
-                # definite there and leaves the step orthogonal to them.
-                hessian4 = hessian.reshape(n_features, r, n_features, r)
-                hessian4 += self.scale * (
-                    (V @ V.T)[:, None, :, None] * np.eye(r)[None, :, None, :]
-                )
-                self.system = hessian
-            system = self.system.copy()
-            system[diagonal, diagonal] += self.damping * self.scale
-            step = _solve(system, self.gradient)
-            if step is not None:
-                step = step.reshape(n_features, r)
-                step -= V @ (V.T @ step)  # round-off along span(V)
-                V_new, _ = np.linalg.qr(V + step)
-                U_new, inv_new, cost_new = _project(self.X0, self.mask, V_new)
-            if step is not None and cost_new < self.cost:
-                self.log(
-                    f"iteration {self.n_iter}, squared residual {cost_new:.6g}, "
-                    f"damping {self.damping:.1e}"
-                )
-                accepted += 1
-                stalled = self.cost - cost_new <= self.tol * self.cost
-                self.V, self.U = V_new, U_new
-                self.inv_gram, self.cost = inv_new, cost_new
-                self.system = None
-                self.damping = max(self.damping / 10, _LAMBDA_MIN)
-                if stalled or self.cost <= 1e-28 * self.total:
-                    self.done = self.converged = True
-            else:
-                self.log(
-                    f"iteration {self.n_iter}, step rejected, "
-                    f"damping {self.damping:.1e}"
-                )
-                self.damping *= 10
-                if self.damping > _LAMBDA_MAX:
-                    # no descent direction left at machine precision: a
-                    # stationary point
-                    self.done = self.converged = True
+            accepted += self._trial()
         if not self.done:
-            self.converged = self.cost <= 1e-28 * self.total
+            self.converged = fits_exactly(self.cost, self.total)
+        return self
 
     def result(self):
         # X ~ U V^T = Q (V R^T)^T with U = Q R.
-        B, R = np.linalg.qr(self.U)
-        return B, self.V @ R.T, self.n_iter, self.converged
+        B, R = np.linalg.qr(self.state.U)
+        return B, self.state.V @ R.T, self.n_iter, self.converged
 
-
-def _solve(system, gradient):
-    try:
-        factor = linalg.cho_factor(system, check_finite=False)
-        step = linalg.cho_solve(factor, gradient.reshape(-1), check_finite=False)
-    except (np.linalg.LinAlgError, ValueError):
-        return None
-    if not np.all(np.isfinite(step)):
-        return None
-    return step
-
-
-def _project(X0, mask, V):
-    """Coordinates of every row in the basis ``V``, the inverses of the
-    per-row Gram matrices ``V^T diag(m_i) V`` and the squared residual."""
-    r = V.shape[1]
-    outer = (V.T[:, None, :] * V.T[None, :, :]).reshape(r * r, -1)
-    gram = (mask @ outer.T).reshape(-1, r, r)
-    ridge = _RIDGE * np.trace(gram, axis1=1, axis2=2) / r + np.finfo(float).tiny
-    gram[:, np.arange(r), np.arange(r)] += ridge[:, None]
-    inv_gram = np.linalg.inv(gram)
-    U = np.einsum("ikl,il->ik", inv_gram, X0 @ V)
-    residual = X0 - U @ V.T
-    residual *= mask
-    return U, inv_gram, np.einsum("ij,ij->", residual, residual)
-
-
-class _Layout:
-    """Accumulation of ``J^T J`` over the observed entries.
-
-    Row ``i`` has residual ``e_i = P_i x_i`` with ``P_i`` the projector on
-    the orthogonal complement of ``diag(m_i) V`` among its observed entries,
-    ``P_i = diag(m_i) - diag(m_i) V G_i^{-1} V^T diag(m_i)``. Its Ruhe-Wedin
-    (RW2) Jacobian with respect to ``V`` is ``-P_i (u_i^T kron I)``, so
-
-    ``J^T J = sum_i (u_i u_i^T) kron P_i``, ``-J^T e = E^T U``.
-
-    The identity part of ``P_i`` gives the block diagonal
-    ``sum_i m_ij u_i u_i^T``; the other part is nonzero only for pairs
-    ``(j, l)`` of columns both observed in row ``i``. With sparse masks
-    (tracks seen in a few frames) these pairs are far fewer than
-    ``n_samples * n_features**2`` and are summed as a sparse product.
-    """
-
-    def __init__(self, mask, r):
-        self.mask = mask
-        self.r = r
-        n_samples, n_features = mask.shape
-        counts = mask.sum(axis=1).astype(np.int64)
-        pairs = counts * (counts + 1) // 2
-        self.sparse = pairs.sum() < _SPARSE_DENSITY * n_samples * n_features**2 / 2
-        self.chunks = []
-        if self.sparse:
-            bounds = [0]
-            cumulative = np.cumsum(pairs)
-            while bounds[-1] < n_samples:
-                done = cumulative[bounds[-1] - 1] if bounds[-1] else 0
-                stop = np.searchsorted(cumulative, done + _CHUNK_PAIRS, side="right")
-                bounds.append(min(max(stop, bounds[-1] + 1), n_samples))
-            self.chunks = [slice(a, b) for a, b in itertools.pairwise(bounds)]
-            self.cache = {} if pairs.sum() <= _CACHED_PAIRS else None
-
-    def _pairs(self, k):
-        if self.cache is not None and k in self.cache:
-            return self.cache[k]
-        rows_slice = self.chunks[k]
-        m = self.mask[rows_slice]
-        n_features = m.shape[1]
-        rows, cols = np.nonzero(m)
-        counts = np.bincount(rows, minlength=m.shape[0])
-        starts = np.concatenate(([0], np.cumsum(counts)[:-1]))
-        # entry e pairs with the entries of its row at or after it
-        later = (starts + counts)[rows] - np.arange(rows.size)
-        first = np.repeat(np.arange(rows.size), later)
-        offsets = np.arange(first.size) - np.repeat(np.cumsum(later) - later, later)
-        second = first + offsets
-        key = cols[first] * n_features + cols[second]
-        product = sparse.coo_matrix(
-            (np.arange(1.0, first.size + 1), (key, rows[first])),
-            shape=(n_features * n_features, m.shape[0]),
-        ).tocsr()
-        # the CSR arrays hold the pairs in another order: find it once
-        order = product.data.astype(np.intp) - 1
-        result = (rows, cols, first[order], second[order], product)
-        if self.cache is not None:
-            self.cache[k] = result
-        return result
-
-    def normal_equations(self, X0, V, U, inv_gram):
-        """``J^T J`` indexed by ``j * r + k`` for ``V[j, k]``, and ``-J^T e``."""
-        n_samples, n_features = X0.shape
-        r = self.r
-        UU = (U[:, :, None] * U[:, None, :]).reshape(n_samples, r * r)
-        if self.sparse:
-            upper = np.zeros((n_features * n_features, r * r))
-            for k, rows_slice in enumerate(self.chunks):
-                rows, cols, first, second, product = self._pairs(k)
-                rows = rows + rows_slice.start
-                # K_i[j, l] = y_j^T G_i^{-1} y_l for the rows y_j of V observed
-                # in row i, one value per pair (first, second) of entries
-                Y = V[cols]
-                Z = np.einsum("ea,eab->be", Y, inv_gram[rows])
-                Y = Y.T.copy()
-                data = Z[0][first] * Y[0][second]
-                for a in range(1, r):
-                    data += Z[a][first] * Y[a][second]
-                product.data = -data
-                upper += product @ UU[rows_slice]
-            upper = upper.reshape(n_features, n_features, r * r)
-            hessian4 = upper + upper.transpose(1, 0, 2)
-            idx = np.arange(n_features)
-            hessian4[idx, idx] -= upper[idx, idx]
-        else:
-            hessian4 = np.zeros((n_features, n_features, r * r))
-            # each row holds an (n_features, n_features) block
-            size = max(1, _CHUNK_FLOATS // (n_features * n_features))
-            for rows in row_chunks(n_samples, size):
-                m = self.mask[rows]
-                VC = np.einsum("jk,ikl->ijl", V, inv_gram[rows])
-                K = VC @ V.T
-                K *= m[:, :, None]
-                K *= m[:, None, :]
-                hessian4 -= (K.reshape(K.shape[0], -1).T @ UU[rows]).reshape(
-                    hessian4.shape
-                )
-        idx = np.arange(n_features)
-        hessian4[idx, idx] += self.mask.T @ UU
-        hessian = (
-            hessian4.reshape(n_features, n_features, r, r)
-            .transpose(0, 2, 1, 3)
-            .reshape(n_features * r, n_features * r)
+    def _trial(self):
+        """One damped step; returns whether it was accepted."""
+        if self.linearisation is None:
+            self.linearisation = self._linearise()
+        step = self._step()
+        candidate, predicted = None, np.inf
+        if step is not None:
+            V_new, _ = np.linalg.qr(self.state.V + step)
+            candidate = _Projection(self.X0, self.mask, V_new)
+            # decrease of the cost promised by the damped quadratic model
+            gradient, _, scale, _ = self.linearisation
+            predicted = np.vdot(gradient, step)
+            predicted += self.damping * scale * np.vdot(step, step)
+        # a nearly undamped step promising less than tol: converged
+        promised_little = (
+            self.damping <= _NEWTON_DAMPING and predicted <= self.tol * self.cost
         )
-        residual = X0 - U @ V.T
-        residual *= self.mask
-        gradient = residual.T @ U
-        return hessian, gradient
+        if candidate is not None and candidate.cost < self.cost:
+            decrease = self.cost - candidate.cost
+            self.state, self.linearisation = candidate, None
+            self.log(
+                f"iteration {self.n_iter}, squared residual {self.cost:.6g}, "
+                f"damping {self.damping:.1e}" + (", Newton" if self.newton else "")
+            )
+            self.damping = max(self.damping / 10, _LAMBDA_MIN)
+            self.newton = self.newton or (
+                decrease < _NEWTON_SWITCH * self.cost
+                and self.damping <= _NEWTON_DAMPING
+            )
+            if (
+                decrease <= self.tol * self.cost
+                or promised_little
+                or fits_exactly(self.cost, self.total)
+            ):
+                self.done = self.converged = True
+            return True
+        self.log(f"iteration {self.n_iter}, step rejected, damping {self.damping:.1e}")
+        self.damping *= 10
+        if promised_little or self.damping > _LAMBDA_MAX:
+            # no descent direction left at the tolerance (or at machine
+            # precision): a stationary point
+            self.done = self.converged = True
+        return False
+
+    def _linearise(self):
+        """Gradient, preconditioner blocks and damping scale at the current basis."""
+        state, mask = self.state, self.mask
+        V, U = state.V, state.U
+        n_features, r = V.shape
+        gradient = state.residual.T @ U  # minus half the gradient of the cost
+        gradient -= V @ (V.T @ gradient)
+        # block diagonal of J^T J without its rank-r corrections: the column
+        # Gram matrices sum_i m_ij u_i u_i^T of alternating least squares
+        blocks = row_grams(mask.T, U.T)
+        scale = np.trace(blocks, axis1=1, axis2=2).sum() / (n_features * r)
+        scale = max(scale, np.finfo(float).tiny)
+        hessian = None
+        if (
+            self.dense is None
+            and n_features * r <= _MAX_DENSE_UNKNOWNS
+            and self.cg_flops > factorisation_flops(mask, r)
+        ):
+            self.log("conjugate gradients cost more than the dense system")
+            self.dense = GaussNewtonMatrix(mask, r)
+        if self.dense is not None:
+            hessian, _ = self.dense.normal_equations(self.X0, V, U, state.inv_gram)
+            # gauge directions V K: J^T J vanishes there; (V V^T) kron I makes
+            # the matrix definite without changing it on the tangent space
+            hessian.reshape(n_features, r, n_features, r)[...] += scale * (
+                (V @ V.T)[:, None, :, None] * np.eye(r)[None, :, None, :]
+            )
+        return gradient, blocks, scale, hessian
+
+    def _step(self):
+        """Damped (Gauss-)Newton step by preconditioned conjugate gradients."""
+        gradient, blocks, scale, hessian = self.linearisation
+        V = self.state.V
+        n_features, r = V.shape
+        shift = self.damping * scale
+        if hessian is not None:
+            system = hessian.copy()
+            system[np.diag_indices_from(system)] += shift
+            try:
+                factor = linalg.cho_factor(system, check_finite=False)
+            except (np.linalg.LinAlgError, ValueError):
+                return None
+
+            def precondition(residual):
+                z = linalg.cho_solve(factor, residual.ravel(), check_finite=False)
+                return _tangent(V, z.reshape(n_features, r))
+
+        else:
+            damped = blocks.copy()
+            damped[:, np.arange(r), np.arange(r)] += shift
+            inverse = np.linalg.inv(damped)
+
+            def precondition(residual):
+                return _tangent(V, _apply(inverse, residual))
+
+        products = self.n_products
+        newton = self.newton
+        if newton:
+            step, negative = self._solve(gradient, shift, precondition, newton=True)
+            newton = not negative  # negative curvature: a Gauss-Newton step
+        if not newton and hessian is not None:
+            step = precondition(gradient)  # the damped Gauss-Newton matrix: exact
+        elif not newton:
+            step, _ = self._solve(gradient, shift, precondition, newton=False)
+        matvec = (12 if newton else 8) * self.mask.size * r
+        self.cg_flops = (self.n_products - products) * matvec
+        if step is None or not np.all(np.isfinite(step)):
+            return None
+        return _tangent(V, step)
+
+    def _solve(self, gradient, shift, precondition, *, newton):
+        n_features, r = gradient.shape
+        return _conjugate_gradients(
+            lambda D: self._product(D, shift, newton),
+            gradient,
+            precondition,
+            rtol=_NEWTON_FORCING if newton else _FORCING,
+            max_iter=n_features * r,
+        )
+
+    def _product(self, D, shift, newton):
+        """``(H + shift I) D`` for a tangent ``D``, with ``H`` the Gauss-Newton
+        matrix ``J^T J`` or, if ``newton``, the Hessian of half the cost.
+
+        With ``T = M o (U D^T)`` and ``C`` the change of the coordinates,
+        ``C_i = G_i^{-1} (V^T T_i - [Newton] D^T e_i)`` up to sign, the change
+        of the residual is ``-(T + M o (C V^T))``; the Newton Hessian adds the
+        term ``-E^T C`` from the change of ``U`` in the gradient ``E^T U``.
+        """
+        self.n_products += 1
+        state, mask = self.state, self.mask
+        U, V = state.U, state.V
+        if self._buffers is None:
+            self._buffers = np.empty_like(mask), np.empty_like(mask)
+        T, W = self._buffers
+        np.matmul(U, D.T, out=T)
+        T *= mask
+        C = -(T @ V)
+        if newton:
+            C += state.residual @ D
+        C = _apply(state.inv_gram, C)
+        T += np.matmul(C, V.T, out=W)
+        T *= mask
+        product = T.T @ U
+        if newton:
+            product -= state.residual.T @ C
+        product += shift * D
+        return _tangent(V, product)
+
+
+def _tangent(V, D):
+    """``D`` projected on the tangent space at ``V``: ``V^T D = 0``."""
+    return D - V @ (V.T @ D)
+
+
+def _conjugate_gradients(operator, rhs, precondition, *, rtol, max_iter):
+    """Preconditioned conjugate gradients for ``operator(x) = rhs``.
+
+    Stops when the residual is below ``rtol`` times ``rhs``, or at the first
+    direction of non-positive curvature (Steihaug). Returns the iterate and
+    whether that happened at the very first direction (no step at all).
+    """
+    x = np.zeros_like(rhs)
+    norm = np.linalg.norm(rhs)
+    if norm == 0:
+        return x, False
+    residual = rhs.copy()
+    z = precondition(residual)
+    direction = z.copy()
+    rz = np.vdot(residual, z)
+    for k in range(max_iter):
+        product = operator(direction)
+        curvature = np.vdot(direction, product)
+        if curvature <= 0:
+            # the iterate so far is still a descent direction (Steihaug)
+            return x, k == 0
+        alpha = rz / curvature
+        x += alpha * direction
+        residual -= alpha * product
+        if np.linalg.norm(residual) <= rtol * norm:
+            break
+        z = precondition(residual)
+        rz_new = np.vdot(residual, z)
+        direction = z + (rz_new / rz) * direction
+        rz = rz_new
+    return x, False

@@ -1,6 +1,6 @@
 """Veronese embedding of points and derivatives of homogeneous polynomials.
 
-The Veronese map of degree ``n`` sends a point ``x`` in ``R^K`` to the vector
+The Veronese map of degree ``n`` sends a point ``x`` in :math:`R^K` to the vector
 ``nu_n(x)`` of all ``M_n = C(n + K - 1, n)`` monomials ``x^e = x_1^e_1 ...
 x_K^e_K`` with ``|e| = n`` (section 2.2.2 of Vidal & Hartley, CVPR 2004). A
 homogeneous polynomial of degree ``n`` is ``p(x) = c^T nu_n(x)`` and its gradient
@@ -71,7 +71,7 @@ def veronese_map(X, degree):
     Parameters
     ----------
     X : ndarray of shape (n_samples, n_features)
-        Points in ``R^K``.
+        Points in :math:`R^K`.
     degree : int
         Degree ``n >= 0`` of the embedding.
 
@@ -127,41 +127,13 @@ def _check_degree(degree):
         raise ValueError(f"Derivatives need degree >= 1, got degree={degree}.")
 
 
-def veronese_jacobian(X, degree):
-    """Jacobian of the Veronese embedding at every row of ``X``.
-
-    Parameters
-    ----------
-    X : ndarray of shape (n_samples, n_features)
-        Points in ``R^K``.
-    degree : int
-        Degree ``n >= 1`` of the embedding.
-
-    Returns
-    -------
-    jacobian : ndarray of shape (n_samples, M_n, n_features)
-        ``jacobian[i, m, k] = d nu_n(x)_m / d x_k`` at ``x = X[i]``, that is
-        ``e_mk x^(e_m - u_k)``.
-    """
-    _check_degree(degree)
-    X = np.asarray(X)
-    n_samples, n_features = X.shape
-    mono, feature, lower, multiplicity = _derivative_terms(n_features, degree)
-    lower_embedded = veronese_map(X, degree - 1)
-    jacobian = np.zeros(
-        (n_samples, n_monomials(n_features, degree), n_features), dtype=X.dtype
-    )
-    jacobian[:, mono, feature] = multiplicity * lower_embedded[:, lower]
-    return jacobian
-
-
 def polynomial_gradients(X, coef, degree):
     """Gradients of homogeneous polynomials ``c^T nu_n(x)`` at every row of ``X``.
 
     Parameters
     ----------
     X : ndarray of shape (n_samples, n_features)
-        Points in ``R^K``.
+        Points in :math:`R^K`.
     coef : ndarray of shape (M_n,) or (M_n, n_polynomials)
         Coefficients of one polynomial, or one polynomial per column, in the
         monomial order of :func:`veronese_exponents`.

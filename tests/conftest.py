@@ -6,6 +6,14 @@ import os
 from pathlib import Path
 
 import pytest
+from hypothesis import settings
+
+# Property tests draw the same examples on every run, so that a CI run cannot
+# fail by chance; `pytest --hypothesis-profile=explore` draws new ones (and
+# `--hypothesis-seed=N` replays a run of that profile).
+settings.register_profile("deterministic", derandomize=True, print_blob=True)
+settings.register_profile("explore", derandomize=False, print_blob=True)
+settings.load_profile("deterministic")
 
 #: ``../shared/data`` relative to the project root, unless the environment
 #: variable ``SKLEARN_GPCA_DATA`` points elsewhere.

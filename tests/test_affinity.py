@@ -8,18 +8,23 @@ import scipy.sparse as sp
 from numpy.testing import assert_allclose, assert_array_equal
 
 from sklearn_gpca._affinity import (
-    leading_eigenvectors,
-    local_normal_bases,
     merge_clusters,
     normal_affinity_graph,
     normalized_cut,
     sign_invariant_neighbors,
-    spectral_embedding_sparse,
 )
+from sklearn_gpca._normals import local_normal_bases
+from sklearn_gpca._spectral import leading_eigenvectors
 
 
 def unit(X):
     return X / np.linalg.norm(X, axis=1, keepdims=True)
+
+
+def spectral_embedding_sparse(affinity, n_components, random_state):
+    """Ng-Jordan-Weiss embedding: leading eigenvectors with unit rows."""
+    vectors = leading_eigenvectors(affinity, n_components, random_state)
+    return vectors / np.linalg.norm(vectors, axis=1, keepdims=True)
 
 
 def two_blocks(sizes, rng, cross=0.0):

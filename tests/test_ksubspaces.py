@@ -5,9 +5,11 @@
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose, assert_array_equal
+from sklearn.metrics import adjusted_rand_score
 
 from sklearn_gpca._affinity import sign_invariant_neighbors
-from sklearn_gpca._ksubspaces import fit_subspace, refine_ksubspaces, sine_residuals
+from sklearn_gpca._ksubspaces import k_subspaces, refill_small_clusters
+from sklearn_gpca._subspaces import fit_subspace, sine_residuals
 
 
 def unit(X):
@@ -50,16 +52,15 @@ def test_refinement_fixes_corrupted_labels(smoothing):
     flip = rng.choice(300, 60, replace=False)
     labels[flip] = (labels[flip] + 1) % 3
     neighbors = sign_invariant_neighbors(X, 10)
-    refined, bases, n_iter, converged = refine_ksubspaces(
+    refined, bases, n_iter, converged = k_subspaces(
         X,
         labels,
         3,
         neighbors=neighbors,
         smoothing=smoothing,
         subspace_dim=4,
-        rank_tol=0.05,
+        subspace_dim_tol=0.05,
         max_iter=50,
-        random_state=np.random.RandomState(0),
     )
     assert converged and 1 <= n_iter < 50
     assert len(bases) == 3
@@ -69,16 +70,39 @@ def test_refinement_fixes_corrupted_labels(smoothing):
 def test_refinement_keeps_true_labels():
     rng = np.random.RandomState(2)
     X, y, _ = union([3, 3], 80, rng)
-    refined, _, n_iter, converged = refine_ksubspaces(
+    refined, _, n_iter, converged = k_subspaces(
         X,
         y,
         2,
         neighbors=sign_invariant_neighbors(X, 10),
         smoothing=5.0,
         subspace_dim=3,
-        rank_tol=0.05,
+        subspace_dim_tol=0.05,
         max_iter=5,
-        random_state=np.random.RandomState(0),
     )
     assert_array_equal(refined, y)
     assert converged and n_iter == 1
+
+
+def test_small_cluster_is_reseeded_on_the_worst_fit_subspace():
+    """Two planes of R^3 all labelled 0, cluster 1 empty: the reseeded cluster
+    takes mostly points of one plane, and the refinement then separates them."""
+    rng = np.random.RandomState(0)
+    X, y, _ = union([2, 2], 30, rng, noise=0.0, n_features=3)
+    labels = refill_small_clusters(X, np.zeros(60, dtype=np.intp), 2, 2, 0.05)
+    moved = labels == 1
+    assert moved.sum() >= 4
+    assert np.bincount(y[moved]).max() >= 0.8 * moved.sum()
+    refined, *_ = k_subspaces(X, np.zeros(60, dtype=np.intp), 2, smoothing=0.0)
+    assert adjusted_rand_score(y, refined) == 1.0
+
+
+def test_no_reseed_when_no_cluster_can_spare_points():
+    rng = np.random.RandomState(0)
+    X, _, _ = union([4], 10, rng)
+    labels = np.zeros(10, dtype=np.intp)
+    assert_array_equal(refill_small_clusters(X, labels, 3, 4, 0.05), labels)
+    refined, bases, _, converged = k_subspaces(X, labels, 3, smoothing=0.0)
+    assert converged
+    assert_array_equal(refined, 0)
+    assert [b.shape[1] for b in bases] == [4, 0, 0]

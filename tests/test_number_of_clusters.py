@@ -1,13 +1,24 @@
-"""Tests for n_clusters="auto" and the coding length that drives it."""
+"""Tests for choosing the number of clusters: the criterion, select_n_clusters,
+NClustersSearch and n_clusters="auto"."""
 
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
 import pytest
-from numpy.testing import assert_array_equal
+from numpy.testing import assert_allclose, assert_array_equal
+from sklearn.base import clone
+from sklearn.exceptions import FitFailedWarning
 from sklearn.pipeline import make_pipeline
 
-from sklearn_gpca import GPCAClustering, PowerFactorization
+from sklearn_gpca import (
+    GPCAClustering,
+    NClustersSearch,
+    PowerFactorization,
+    coding_length_cost,
+    gpca,
+    select_n_clusters,
+    sine_likelihood_cost,
+)
 from sklearn_gpca._coding_length import coding_length
 from sklearn_gpca.datasets import make_motions
 from sklearn_gpca.metrics import misclassification_rate
@@ -40,8 +51,8 @@ def test_auto_finds_number_of_motions(n_motions, seed):
     ).fit(X)
     model = pipe[-1]
     assert model.n_clusters_ == n_motions
-    assert model.coding_lengths_.shape == (5,)
-    assert np.argmin(model.coding_lengths_) == n_motions - 1
+    assert model.n_clusters_costs_.shape == (5,)
+    assert np.argmin(model.n_clusters_costs_) == n_motions - 1
     assert misclassification_rate(y, model.labels_) <= 0.05
     assert model.labels_.max() == n_motions - 1
     assert len(model.subspace_bases_) == n_motions
@@ -57,8 +68,8 @@ def test_auto_skips_degrees_without_enough_points():
     rng = np.random.RandomState(0)
     X = rng.randn(40, 5)  # degree 3 needs 34 points, degree 4 needs 69
     model = GPCAClustering("auto", max_clusters=5, random_state=0).fit(X)
-    assert np.all(np.isfinite(model.coding_lengths_[:3]))
-    assert np.all(np.isinf(model.coding_lengths_[3:]))
+    assert np.all(np.isfinite(model.n_clusters_costs_[:3]))
+    assert np.all(np.isinf(model.n_clusters_costs_[3:]))
     assert 1 <= model.n_clusters_ <= 3
 
 
@@ -71,7 +82,7 @@ def test_auto_respects_max_clusters():
     X, _ = make_motions(3, n_points=300, random_state=0)
     Z = PowerFactorization(random_state=0).fit_transform(X)
     model = GPCAClustering("auto", max_clusters=2, random_state=0).fit(Z)
-    assert model.coding_lengths_.shape == (2,)
+    assert model.n_clusters_costs_.shape == (2,)
     assert model.n_clusters_ <= 2
 
 
@@ -80,7 +91,7 @@ def test_fixed_n_clusters_sets_n_clusters_():
     Z = PowerFactorization(random_state=0).fit_transform(X)
     model = GPCAClustering(2, random_state=0).fit(Z)
     assert model.n_clusters_ == 2
-    assert not hasattr(model, "coding_lengths_")
+    assert not hasattr(model, "n_clusters_costs_")
 
 
 @pytest.mark.parametrize("bad", ["two", 0, 2.5])
@@ -97,3 +108,115 @@ def test_auto_warns_once_about_zero_rows():
         model = GPCAClustering("auto", max_clusters=3, random_state=0).fit(Z)
     assert sum("all-zero" in str(r.message) for r in records) == 1
     assert model.labels_.shape == (102,)
+
+
+# Model selection outside the clusterer.
+
+
+def _projected_motions(n_motions, seed=0):
+    X, y = make_motions(n_motions, n_points=100 * n_motions, random_state=seed)
+    return PowerFactorization(random_state=0).fit_transform(X), y
+
+
+def test_auto_is_select_n_clusters_over_gpca():
+    Z, _ = _projected_motions(3)
+    model = GPCAClustering("auto", max_clusters=4, random_state=0).fit(Z)
+
+    def segment(n):
+        result = gpca(Z, n, random_state=0)
+        return Z, result.labels, result
+
+    best, costs, results = select_n_clusters(segment, [1, 2, 3, 4])
+    assert_allclose(costs, model.n_clusters_costs_)
+    assert best + 1 == model.n_clusters_ == 3
+    assert_array_equal(results[best].labels, model.labels_)
+    assert costs[best] == coding_length_cost(Z, model.labels_)
+
+
+def test_select_n_clusters_takes_any_criterion():
+    Z, _ = _projected_motions(2)
+
+    def segment(n):
+        return Z, gpca(Z, n, random_state=0).labels, n
+
+    # a criterion that prefers more groups picks the largest candidate
+    best, costs, fitted = select_n_clusters(
+        segment, [1, 2, 3], criterion=lambda points, labels: -len(set(labels))
+    )
+    assert fitted[best] == 3
+    assert_array_equal(costs, [-1, -2, -3])
+
+
+@pytest.mark.parametrize("n_motions", [2, 3])
+def test_search_around_a_pipeline_finds_the_number_of_motions(n_motions):
+    X, _ = make_motions(n_motions, n_points=100 * n_motions, random_state=1)
+    pipe = make_pipeline(
+        PowerFactorization(random_state=0), GPCAClustering(random_state=0)
+    )
+    search = NClustersSearch(pipe, n_clusters_grid=[1, 2, 3, 4]).fit(X)
+    assert search.best_n_clusters_ == n_motions
+    assert search.best_estimator_[-1].n_clusters == n_motions
+    assert search.costs_.shape == (4,)
+    assert np.argmin(search.costs_) == n_motions - 1
+    # the winner is the fixed-n pipeline
+    fixed = clone(pipe).set_params(gpcaclustering__n_clusters=n_motions).fit(X)
+    assert_array_equal(search.labels_, fixed[-1].labels_)
+    assert_array_equal(search.predict(X), fixed.predict(X))
+    # the pipeline's last step saw the projection the criterion was measured on
+    Z = search.best_estimator_[:-1].transform(X)
+    assert search.costs_[n_motions - 1] == pytest.approx(
+        coding_length_cost(Z, search.labels_), rel=1e-6
+    )
+    assert not hasattr(pipe[-1], "labels_")  # the estimator was cloned
+
+
+def test_search_agrees_with_auto():
+    Z, _ = _projected_motions(3, seed=2)
+    search = NClustersSearch(GPCAClustering(random_state=0)).fit(Z)
+    auto = GPCAClustering("auto", random_state=0).fit(Z)
+    assert search.best_n_clusters_ == auto.n_clusters_
+    assert_allclose(search.costs_, auto.n_clusters_costs_)
+    assert search.score(Z) == pytest.approx(auto.score(Z))
+
+
+def test_search_skips_candidates_that_cannot_be_fitted():
+    X = np.random.RandomState(0).randn(40, 5)  # degree 4 needs 69 points
+    with pytest.warns(FitFailedWarning) as records:
+        search = NClustersSearch(GPCAClustering(random_state=0)).fit(X)
+    messages = [str(r.message) for r in records]
+    assert any("n_clusters=4 was skipped" in m and "69" in m for m in messages)
+    assert any("n_clusters=5 was skipped" in m for m in messages)
+    assert np.isinf(search.costs_[3:]).all()
+    assert search.best_n_clusters_ <= 3
+    with pytest.raises(ValueError, match="too few for the Veronese"):
+        NClustersSearch(GPCAClustering(), n_clusters_grid=[4, 5]).fit(X)
+
+
+def test_score_is_minus_the_criterion_per_point():
+    Z, _ = _projected_motions(2)
+    model = GPCAClustering(2, random_state=0).fit(Z)
+    expected = -coding_length_cost(Z, model.predict(Z)) / Z.shape[0]
+    assert model.score(Z) == pytest.approx(expected)
+
+
+def test_the_criterion_is_a_parameter_of_auto_and_score():
+    Z, _ = _projected_motions(2)
+    auto = GPCAClustering("auto", criterion="sine_likelihood", random_state=0).fit(Z)
+    fixed = GPCAClustering(auto.n_clusters_, criterion="sine_likelihood").fit(Z)
+    assert auto.score(Z) == pytest.approx(
+        -sine_likelihood_cost(Z, auto.predict(Z)) / Z.shape[0]
+    )
+    assert np.argmin(auto.n_clusters_costs_) + 1 == auto.n_clusters_
+    assert fixed.score(Z) == pytest.approx(
+        -sine_likelihood_cost(Z, fixed.predict(Z)) / Z.shape[0]
+    )
+
+
+def test_sine_likelihood_prefers_exact_hyperplanes_at_their_number():
+    rng = np.random.RandomState(0)
+    bases = [np.linalg.qr(rng.randn(5, 4))[0] for _ in range(3)]
+    X = np.vstack([rng.randn(60, 4) @ B.T for B in bases])
+    y = np.repeat([0, 1, 2], 60)
+    true = sine_likelihood_cost(X, y)
+    assert true < sine_likelihood_cost(X, np.minimum(y, 1))  # two merged
+    assert true < sine_likelihood_cost(X, np.where(np.arange(180) % 2, y, y + 3))

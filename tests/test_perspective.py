@@ -9,18 +9,18 @@ from scipy import sparse
 from sklearn.base import clone
 
 from sklearn_gpca import PerspectiveClustering
-from sklearn_gpca._hypotheses import (
+from sklearn_gpca._perspective import (
+    normalized_cut_votes,
+    refine_normalized_cut,
+    spectral_embedding_votes,
+)
+from sklearn_gpca._view_hypotheses import (
     _subspace_residuals,
     frame_pairs,
     local_samples,
     observed_frames,
     preference_votes,
     top_votes,
-)
-from sklearn_gpca._perspective import (
-    normalized_cut_votes,
-    refine_normalized_cut,
-    spectral_embedding_votes,
 )
 from sklearn_gpca.datasets import make_tracks
 from sklearn_gpca.metrics import misclassification_rate

@@ -71,14 +71,14 @@ def test_normal_bases_span_the_orthogonal_complement():
 
 
 @pytest.mark.parametrize("dims", [(2, 2), (3, 3), (2, 2, 4), (2, 2, 2)])
-def test_polynomials_affinity_segments_low_dimensional_subspaces(dims):
+def test_all_polynomials_normals_segment_low_dimensional_subspaces(dims):
     # the paper's single polynomial fails on these (test_gpca); the null space
     # of several polynomials does, even on the dense kernel without refinement
     X, y, _ = union_of_subspaces(dims, 150, 0, noise=0.01)
     model = GPCAClustering(
         len(dims),
-        affinity="polynomials",
-        n_neighbors=None,
+        point_normals="all_polynomials",
+        affinity="all_pairs",
         affinity_power=1,
         refine=False,
         random_state=0,
@@ -91,6 +91,6 @@ def test_polynomials_affinity_segments_low_dimensional_subspaces(dims):
 
 def test_hyperplanes_have_one_polynomial():
     X, y, _ = union_of_subspaces([4, 4, 4], 100, 2)
-    model = GPCAClustering(3, affinity="polynomials", random_state=0).fit(X)
+    model = GPCAClustering(3, point_normals="all_polynomials", random_state=0).fit(X)
     assert model.n_polynomials_ == 1
     assert misclassification_rate(y, model.labels_) <= 0.02

@@ -130,30 +130,6 @@ def test_too_many_components():
         PowerFactorization(5).fit(low_rank(n_samples=4))
 
 
-def test_empty_and_underdetermined_rows_are_named():
-    X = low_rank()
-    X[[3, 10], :] = np.nan
-    X[20, 4:] = np.nan  # 4 observed entries < n_components=5
-    msg = r"Every row needs at least n_components=5 .* 3 \(3, 10, 20\) rows have "
-    with pytest.raises(ValueError, match=msg + r"fewer \(2 of them have none\)"):
-        PowerFactorization(5).fit(X)
-
-
-def test_empty_columns_are_named():
-    X = low_rank()
-    X[:, [0, 7]] = np.nan
-    with pytest.raises(ValueError, match=r"Every column .* 2 \(0, 7\) columns"):
-        PowerFactorization(5).fit(X)
-
-
-def test_transform_rejects_underdetermined_new_rows():
-    pf = PowerFactorization(5, random_state=0).fit(low_rank())
-    X_new = low_rank(n_samples=10, seed=1)
-    X_new[2, 3:] = np.nan
-    with pytest.raises(ValueError, match=r"Every row .* 1 \(2\) rows have fewer"):
-        pf.transform(X_new)
-
-
 def test_infinity_is_rejected():
     X = low_rank()
     X[0, 0] = np.inf
@@ -192,3 +168,72 @@ def test_subsampled_starts_polished_on_all_rows():
     # same subspace
     overlap = np.linalg.svd(sub.components_ @ full.components_.T)[1]
     assert_allclose(overlap, 1.0, atol=1e-6)
+
+
+def noisy_low_rank(missing, seed=0):
+    rng = np.random.RandomState(seed)
+    X = low_rank(n_samples=100, n_features=12, rank=3, seed=seed)
+    return remove(X + 0.01 * rng.standard_normal(X.shape), missing, seed=seed)
+
+
+@pytest.mark.parametrize("scale", [1e-200, 1e-155, 1e154, 1e200])
+@pytest.mark.parametrize("missing", [0.0, 0.3])
+def test_tiny_and_huge_units_give_the_same_fit(scale, missing):
+    X = noisy_low_rank(missing)
+    pf = PowerFactorization(3, random_state=0).fit(X)
+    scaled = PowerFactorization(3, random_state=0).fit(X * scale)
+    # whitened coordinates and components do not depend on the units
+    assert_allclose(scaled.transform(X * scale), pf.transform(X), atol=1e-8)
+    assert_allclose(scaled.components_, pf.components_, atol=1e-8)
+    assert_allclose(scaled.singular_values_ / scale, pf.singular_values_, rtol=1e-8)
+    assert_allclose(
+        scaled.reconstruction_err_ / scale, pf.reconstruction_err_, rtol=1e-6
+    )
+    completed = scaled.inverse_transform(scaled.transform(X * scale)) / scale
+    assert_allclose(completed, pf.inverse_transform(pf.transform(X)), atol=1e-8)
+    # plain projections are in the units of X
+    plain = PowerFactorization(3, whiten=False, random_state=0)
+    reference = PowerFactorization(3, whiten=False, random_state=0).fit_transform(X)
+    assert_allclose(plain.fit_transform(X * scale) / scale, reference, atol=1e-8)
+
+
+@settings(max_examples=20, deadline=None)
+@given(exponent=st.integers(-200, 200), missing=st.sampled_from([0.0, 0.25]))
+def test_coordinates_are_invariant_to_the_units(exponent, missing):
+    X = noisy_low_rank(missing, seed=1)
+    reference = PowerFactorization(3, random_state=0).fit_transform(X)
+    scale = 10.0**exponent
+    Z = PowerFactorization(3, random_state=0).fit_transform(X * scale)
+    assert_allclose(Z, reference, atol=1e-8)
+
+
+@pytest.mark.parametrize("name", ["n_components", "completion_rank", "n_init"])
+def test_boolean_integer_parameters_are_a_clear_error(name):
+    with pytest.raises(ValueError, match=f"'{name}' parameter .* not a bool"):
+        PowerFactorization(**{name: True}).fit(low_rank())
+
+
+@pytest.mark.parametrize("missing", [0.0, 0.2])
+def test_completion_rank_beyond_the_data_is_an_error(missing):
+    X = remove(low_rank(n_samples=300, n_features=20), missing)
+    with pytest.raises(
+        ValueError, match="completion_rank=100 must be at most n_features=20"
+    ):
+        PowerFactorization(5, completion_rank=100).fit(X)
+    with pytest.raises(
+        ValueError, match="completion_rank=18 must be at most n_samples=12"
+    ):
+        PowerFactorization(5, completion_rank=18).fit(X[:12])
+
+
+def test_completion_rank_beyond_what_the_rows_support_is_lowered_with_a_warning():
+    # every row observes 10 consecutive entries (cyclically), every column is
+    # observed 60 times or more: no row informs a fit beyond rank 10
+    X = low_rank(n_samples=200, n_features=30, rank=5)
+    offset = (np.arange(30) - np.arange(200)[:, None] % 30) % 30
+    X[offset >= 10] = np.nan
+    assert (~np.isnan(X)).sum(axis=0).min() >= 60
+    with pytest.warns(UserWarning, match="completion_rank=15 lowered to 10"):
+        pf = PowerFactorization(5, completion_rank=15, random_state=0).fit(X)
+    assert pf.completion_rank_ == 10
+    assert np.all(np.isfinite(pf.components_))

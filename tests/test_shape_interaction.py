@@ -38,3 +38,9 @@ def test_rejects_missing_entries():
     X[0, 0] = np.nan
     with pytest.raises(ValueError, match="NaN"):
         ShapeInteractionClustering(2).fit(X)
+
+
+def test_boolean_n_clusters_is_rejected():
+    X, _ = independent_motions()
+    with pytest.raises(ValueError, match=r"'n_clusters' parameter .* Got True"):
+        ShapeInteractionClustering(True).fit(X)

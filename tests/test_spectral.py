@@ -10,10 +10,17 @@ from sklearn.cluster import KMeans, SpectralClustering
 from sklearn.metrics import adjusted_rand_score
 
 from sklearn_gpca._spectral import (
+    lowrank_eigenvectors,
     normal_subspace_features,
     spectral_clustering_lowrank,
-    spectral_embedding_lowrank,
 )
+
+
+def spectral_embedding_lowrank(features, n_components):
+    """Ng-Jordan-Weiss embedding of ``features @ features.T``: unit rows."""
+    vectors = lowrank_eigenvectors(features, n_components)
+    norms = np.linalg.norm(vectors, axis=1, keepdims=True)
+    return vectors / np.maximum(norms, np.finfo(float).tiny)
 
 
 def spectral_embedding_dense(affinity, n_components):

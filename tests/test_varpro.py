@@ -1,4 +1,4 @@
-import warnings
+"""The variable-projection solver: its products, routes and restarts."""
 
 import _matrices
 import numpy as np
@@ -6,10 +6,9 @@ import pytest
 from _matrices import remove
 from numpy.testing import assert_allclose
 from scipy.linalg import subspace_angles
-from sklearn.exceptions import ConvergenceWarning
 
-from sklearn_gpca import PowerFactorization, _varpro
-from sklearn_gpca._als import squared_residual
+from sklearn_gpca import PowerFactorization, _gauss_newton, _multistart, _varpro
+from sklearn_gpca._als import ALS, squared_residual
 from sklearn_gpca.datasets import load_lowrank
 
 
@@ -34,25 +33,22 @@ def zero_filled(X):
     return np.where(mask, X, 0.0), mask.astype(float)
 
 
-def fit(X, rank, seed=0, max_iter=500):
-    X0, mask = zero_filled(X)
-    return _varpro.power_factorization(
-        X0,
-        mask,
-        rank,
-        max_iter=max_iter,
-        tol=1e-10,
-        random_state=np.random.RandomState(seed),
-        log=lambda message: None,
-    )
+def start(n_features, rank, seed):
+    return _multistart.random_basis(n_features, rank, np.random.RandomState(seed))
+
+
+def silent(message):
+    pass
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
 @pytest.mark.parametrize("rank", [2, 4])
 def test_exact_recovery_of_missing_entries(seed, rank):
     X = low_rank(rank=rank, seed=seed)
-    X_missing = remove(X, 0.4, seed=seed)
-    B, A, _, converged = fit(X_missing, rank, seed)
+    X0, mask = zero_filled(remove(X, 0.4, seed=seed))
+    B, A, _, converged = _varpro.varpro(
+        X0, mask, start(24, rank, seed), max_iter=500, tol=1e-10, log=silent
+    )
     assert converged
     assert_allclose(B.T @ B, np.eye(rank), atol=1e-10)
     assert np.linalg.norm(B @ A.T - X) / np.linalg.norm(X) < 1e-6
@@ -100,80 +96,162 @@ def test_nearly_complete_noisy_data_give_the_svd_subspace():
     assert subspace_angles(fits[0].T, fits[1].T).max() < 1e-5
 
 
-@pytest.mark.parametrize("sparse", [True, False])
-def test_normal_equations_match_the_explicit_ruhe_wedin_jacobian(monkeypatch, sparse):
-    rng = np.random.RandomState(0)
-    n_samples, n_features, r = 30, 8, 2
-    X0, mask = zero_filled(remove(rng.standard_normal((n_samples, n_features)), 0.4))
-    V = np.linalg.qr(rng.standard_normal((n_features, r)))[0]
-    U, inv_gram, _ = _varpro._project(X0, mask, V)
+def explicit_jacobian(X0, mask, V, U):
+    """The Ruhe-Wedin (RW2) Jacobian of the reduced residual, row by row."""
+    n_features, r = V.shape
     blocks = []
-    for i in range(n_samples):
+    for i in range(X0.shape[0]):
         seen = mask[i] > 0
         projector = np.eye(seen.sum()) - V[seen] @ np.linalg.pinv(V[seen])
         block = np.zeros((seen.sum(), n_features, r))
         block[:, seen, :] = -projector[:, :, None] * U[i]
         blocks.append(block.reshape(seen.sum(), -1))
-    J = np.vstack(blocks)
-    residual = ((X0 - U @ V.T) * mask)[mask > 0]
+    return np.vstack(blocks)
+
+
+def noisy_problem(seed=0, n_samples=30, n_features=8, r=2):
+    rng = np.random.RandomState(seed)
+    X0, mask = zero_filled(remove(rng.standard_normal((n_samples, n_features)), 0.4))
+    V = start(n_features, r, seed)
+    return X0, mask, V
+
+
+@pytest.mark.parametrize("sparse", [True, False])
+def test_dense_normal_equations_match_the_explicit_ruhe_wedin_jacobian(
+    monkeypatch, sparse
+):
+    X0, mask, V = noisy_problem()
+    state = _varpro._Projection(X0, mask, V)
+    J = explicit_jacobian(X0, mask, V, state.U)
+    residual = ((X0 - state.U @ V.T) * mask)[mask > 0]
     # several chunks of rows must give the same sums as one, with the pairs
     # of observed entries cached or recomputed
-    monkeypatch.setattr(_varpro, "_CHUNK_FLOATS", 7 * n_features**2)
-    monkeypatch.setattr(_varpro, "_CHUNK_PAIRS", 50)
-    monkeypatch.setattr(_varpro, "_SPARSE_DENSITY", 2.0 if sparse else 0.0)
+    monkeypatch.setattr(_gauss_newton, "_CHUNK_FLOATS", 7 * 8**2)
+    monkeypatch.setattr(_gauss_newton, "_CHUNK_PAIRS", 50)
+    monkeypatch.setattr(_gauss_newton, "_SPARSE_DENSITY", 2.0 if sparse else 0.0)
     for cached in (2**22, 0):
-        monkeypatch.setattr(_varpro, "_CACHED_PAIRS", cached)
-        layout = _varpro._Layout(mask, r)
+        monkeypatch.setattr(_gauss_newton, "_CACHED_PAIRS", cached)
+        layout = _gauss_newton.GaussNewtonMatrix(mask, 2)
         assert layout.sparse == sparse
         assert not sparse or len(layout.chunks) > 3
         for _ in range(2):
-            hessian, gradient = layout.normal_equations(X0, V, U, inv_gram)
+            hessian, gradient = layout.normal_equations(X0, V, state.U, state.inv_gram)
             assert_allclose(hessian, J.T @ J, atol=1e-10)
             assert_allclose(gradient.ravel(), -J.T @ residual, atol=1e-10)
 
 
-@pytest.mark.parametrize("solver", ["varpro", "als"])
-def test_just_enough_entries_never_break_the_solvers(solver):
-    # noisy tracks of 3 frames (6 entries), one in seven cut to 2 frames
-    # (4 entries = n_components); the end frames are seen by 4 tracks only
-    n_frames, n_tracks = 20, 72
-    rng = np.random.RandomState(0)
-    X = low_rank(n_tracks, 2 * n_frames) + 0.01 * rng.standard_normal((72, 40))
-    starts = np.arange(n_tracks) % (n_frames - 2)
-    frames = np.arange(n_frames)
-    cut = (np.arange(n_tracks) % 7 == 0) & (starts > 0) & (starts < 17)
-    length = np.where(cut, 2, 3)
-    visible = (frames >= starts[:, None]) & (frames < (starts + length)[:, None])
-    X[~np.repeat(visible, 2, axis=1)] = np.nan
-    assert (~np.isnan(X)).sum(axis=0).min() == 4
-    assert (~np.isnan(X)).sum(axis=1).min() == 4
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", RuntimeWarning)
-        warnings.simplefilter("ignore", ConvergenceWarning)
-        pf = PowerFactorization(4, solver=solver, n_init=2, max_iter=50)
-        Z = pf.fit(X).transform(X)
-    assert np.all(np.isfinite(Z))
-    assert np.all(np.isfinite(pf.components_))
-    assert np.isfinite(pf.reconstruction_err_)
+def test_matrix_free_gauss_newton_product_is_the_explicit_one():
+    X0, mask, V = noisy_problem(seed=1)
+    solver = _varpro.VarPro(X0, mask, V, tol=0, log=silent)
+    J = explicit_jacobian(X0, mask, V, solver.state.U)
+    D = _varpro._tangent(V, np.random.RandomState(2).standard_normal(V.shape))
+    expected = _varpro._tangent(V, (J.T @ J @ D.ravel()).reshape(D.shape))
+    assert_allclose(solver._product(D, 0.0, newton=False), expected, atol=1e-10)
+    assert_allclose(
+        solver._product(D, 0.5, newton=False), expected + 0.5 * D, atol=1e-10
+    )
 
 
-@pytest.mark.parametrize("solver", ["varpro", "als"])
-def test_underdetermined_rows_and_columns_are_named(solver):
-    _, X = banded(n_frames=20, n_tracks=80, window=3)
-    X[[4, 9], :] = np.nan
-    X[4, :2] = 1.0  # 2 observed entries < n_components=4
-    msg = r"Every row needs at least n_components=4 .* 2 \(4, 9\) rows have fewer"
-    with pytest.raises(ValueError, match=msg + r" \(1 of them have none\)"):
-        PowerFactorization(4, solver=solver).fit(X)
-    _, X = banded(n_frames=20, n_tracks=80, window=3)
-    X[:, [0, 1, 38]] = np.nan
-    with pytest.raises(ValueError, match=r"Every column .* 3 \(0, 1, 38\) columns"):
-        PowerFactorization(4, solver=solver).fit(X)
+def test_newton_product_is_the_derivative_of_the_gradient():
+    # along a tangent direction D, the Hessian of half the cost is minus the
+    # derivative of the descent direction R^T U, projected on the tangent space
+    X0, mask, V = noisy_problem(seed=3)
+    D = _varpro._tangent(V, np.random.RandomState(4).standard_normal(V.shape))
+
+    def descent(V):
+        state = _varpro._Projection(X0, mask, V)
+        return state.residual.T @ state.U
+
+    h = 1e-6
+    derivative = (descent(V + h * D) - descent(V - h * D)) / (2 * h)
+    solver = _varpro.VarPro(X0, mask, V, tol=0, log=silent)
+    product = solver._product(D, 0.0, newton=True)
+    assert_allclose(product, -_varpro._tangent(V, derivative), atol=1e-6)
+    # Gauss-Newton differs from it by a term proportional to the residual
+    assert not np.allclose(solver._product(D, 0.0, newton=False), product, atol=1e-3)
 
 
-def test_unknown_solver_is_rejected():
-    with pytest.raises(ValueError, match="'solver' parameter"):
-        PowerFactorization(2, solver="svd").fit(low_rank())
+def test_dense_preconditioner_gives_the_same_fit_as_conjugate_gradients(monkeypatch):
+    _, X = banded(n_frames=20, n_tracks=120, window=6, seed=2)
+    X0, mask = zero_filled(X)
+    X0 += 0.01 * np.random.RandomState(0).standard_normal(X0.shape) * mask
+    init = start(40, 4, 0)
+    monkeypatch.setattr(_varpro, "_MAX_DENSE_UNKNOWNS", 0)
+    matrix_free = _varpro.VarPro(X0, mask, init, tol=1e-12, log=silent).run(500)
+    assert matrix_free.dense is None
+    # the dense Gauss-Newton matrix as soon as conjugate gradients cost anything
+    monkeypatch.setattr(_varpro, "_MAX_DENSE_UNKNOWNS", 2**12)
+    monkeypatch.setattr(_varpro, "factorisation_flops", lambda mask, r: 0.0)
+    dense = _varpro.VarPro(X0, mask, init, tol=1e-12, log=silent).run(500)
+    assert dense.dense is not None
+    assert_allclose(dense.cost, matrix_free.cost, rtol=1e-8)
+    angles = subspace_angles(dense.state.V, matrix_free.state.V)
+    assert angles.max() < 1e-6
+
+
+def test_als_and_varpro_share_their_interface():
+    X0, mask = zero_filled(remove(low_rank(), 0.3))
+    init = start(24, 4, 0)
+    for Solver in (ALS, _varpro.VarPro):
+        solver = Solver(X0, mask, init, tol=1e-10, log=silent)
+        solver.run(500, max_accepted=3)
+        assert not solver.done
+        solver.run(500)
+        B, A, n_iter, converged = solver.result()
+        assert converged and solver.done and n_iter == solver.n_iter
+        assert_allclose(squared_residual(X0, mask, B, A, None), solver.cost, atol=1e-12)
+
+
+class FakeStart:
+    """A solver whose residual after each accepted step is scripted."""
+
+    def __init__(self, costs, pursued):
+        self.costs, self.pursued, self.total = list(costs), pursued, 1.0
+        self.n_iter, self.cost, self.done = 0, np.inf, False
+
+    def run(self, max_iter, max_accepted=None):
+        if max_accepted is None:
+            self.pursued.append(self)
+        steps = len(self.costs) if max_accepted is None else max_accepted
+        for _ in range(min(steps, len(self.costs))):
+            self.n_iter += 1
+            self.cost = self.costs.pop(0)
+        self.done = not self.costs
+        return self
+
+
+@pytest.mark.parametrize(
+    "n_init, expected", [(1, [0]), (3, [0, 1, 2]), (6, [0, 1, 4, 2])]
+)
+def test_restarts_pursue_promising_starts_then_the_lowest_waiting(
+    monkeypatch, n_init, expected
+):
+    monkeypatch.setattr(_multistart, "TRIAL_STEPS", 2)
+    # start k: (residual after the 2 trial steps, final residual)
+    scripts = [(5.0, 1.0), (3.0, 2.0), (4.0, 1.0), (9.0, 0.5), (2.0, 3.0), (6.0, 1.0)]
+    pursued, made = [], []
+
+    def make_start(init):
+        fake = FakeStart([10.0, *scripts[len(made)]], pursued)
+        made.append(fake)
+        return fake
+
+    best, n_starts = _multistart.best_of_starts(
+        make_start,
+        4,
+        2,
+        n_init=n_init,
+        max_iter=100,
+        random_state=np.random.RandomState(0),
+        log=silent,
+    )
+    assert n_starts == n_init
+    # a start whose trial residual is the lowest so far is pursued at once
+    # (0, 1, then 4); the others wait and are pursued lowest first (2 before
+    # 5 and 3) until the lowest final residual, 1, is reached twice; start 3,
+    # which would reach 0.5, is never pursued
+    assert [made.index(start) for start in pursued] == expected
+    assert best.cost == 1.0
 
 
 def test_restarts_stop_when_the_best_fit_repeats():
@@ -184,65 +262,37 @@ def test_restarts_stop_when_the_best_fit_repeats():
     assert single.n_init_ == 1
 
 
-def test_max_iter_warns():
-    X = remove(low_rank() + np.random.RandomState(0).standard_normal((200, 24)), 0.5)
-    with pytest.warns(ConvergenceWarning, match="did not converge in max_iter=2"):
-        PowerFactorization(4, solver="varpro", n_init=1, max_iter=2, tol=0).fit(X)
-
-
 def test_dinosaur_reaches_the_best_known_fit(lowrank_dir):
-    # one start (a race of four random bases, the best pursued); the 10-seed
-    # success rate is in benchmarks/results/lowrank.md
+    # the 10-seed success rate is in benchmarks/results/lowrank.md
     X = load_lowrank("Dino_trimmed", data_home=lowrank_dir.parent).X
-    pf = PowerFactorization(4, n_init=1, completion_rank=None, random_state=0).fit(X)
+    pf = PowerFactorization(4, completion_rank=None, random_state=0).fit(X)
     # best known rank-4 fit: 1.084673 pixels (Hong & Fitzgibbon, 2015)
     assert pf.reconstruction_err_ <= 1.0850
     X0, mask = zero_filled(X)
     B = pf.transform(X)
-    rms = np.sqrt(squared_residual(X0, mask, B, pf._basis().T, None) / mask.sum())
+    basis = pf.singular_values_[:, None] * pf.components_
+    rms = np.sqrt(squared_residual(X0, mask, B, basis.T, None) / mask.sum())
     assert_allclose(rms, pf.reconstruction_err_, rtol=1e-6)
 
 
-def test_race_pursues_the_lowest_start(monkeypatch):
-    # the race runs each random start for _RACE_STEPS accepted steps, then
-    # pursues exactly the one with the lowest cost: replay it start by start
-    X0, mask = zero_filled(banded(n_frames=20, n_tracks=80, window=4, seed=1)[1])
-    X0 += 0.05 * np.random.RandomState(0).standard_normal(X0.shape) * mask
-    monkeypatch.setattr(_varpro, "_RACE", 3)
-    messages = []
-    B, A, _, _ = _varpro.power_factorization(
-        X0,
-        mask,
-        4,
-        max_iter=500,
-        tol=1e-10,
-        random_state=np.random.RandomState(5),
-        log=messages.append,
-    )
-    rng = np.random.RandomState(5)
-    layout = _varpro._Layout(mask, 4)
-    starts = []
-    for _ in range(3):
-        V, _ = np.linalg.qr(rng.standard_normal((X0.shape[1], 4)))
-        start = _varpro._Start(X0, mask, V, layout, 1e-10, lambda m: None)
-        start.run(500, max_accepted=_varpro._RACE_STEPS)
-        starts.append(start)
-    costs = [start.cost for start in starts]
-    assert len(set(np.round(costs, 8))) == 3  # the starts are told apart
-    winner = int(np.argmin(costs))
-    assert f"race won by start {winner + 1}" in messages
-    starts[winner].run(500)
-    B_alone, A_alone, _, _ = starts[winner].result()
-    assert_allclose(B @ A.T, B_alone @ A_alone.T, atol=1e-8)
+def test_a_waiting_start_already_at_the_lowest_residual_confirms_it(monkeypatch):
+    monkeypatch.setattr(_multistart, "TRIAL_STEPS", 2)
+    # start 0 converges within its trial steps; start 1 waits (its trial
+    # residual is higher) but is already within 1e-4 of it: no need to pursue
+    scripts = [[10.0, 1.0], [10.0, 1.00001, 0.5], [10.0, 2.0, 0.1]]
+    pursued, made = [], []
 
+    def make_start(init):
+        made.append(FakeStart(scripts[len(made)], pursued))
+        return made[-1]
 
-def fit_at(X0, mask, seed):
-    return _varpro.power_factorization(
-        X0,
-        mask,
+    best, n_starts = _multistart.best_of_starts(
+        make_start,
         4,
-        max_iter=500,
-        tol=1e-10,
-        random_state=np.random.RandomState(seed),
-        log=lambda message: None,
+        2,
+        n_init=3,
+        max_iter=100,
+        random_state=np.random.RandomState(0),
+        log=silent,
     )
+    assert (n_starts, pursued, best.cost) == (2, [], 1.0)

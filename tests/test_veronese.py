@@ -12,9 +12,21 @@ from sklearn_gpca._veronese import (
     n_monomials,
     polynomial_gradients,
     veronese_exponents,
-    veronese_jacobian,
     veronese_map,
 )
+
+
+def veronese_jacobian(X, degree):
+    """Brute-force Jacobian ``d nu_n(x)_m / d x_k = e_mk x^(e_m - u_k)``."""
+    exponents = veronese_exponents(X.shape[1], degree)
+    jacobian = np.zeros((X.shape[0], exponents.shape[0], X.shape[1]))
+    for k in range(X.shape[1]):
+        lowered = exponents.copy()
+        lowered[:, k] -= 1
+        has_k = exponents[:, k] > 0
+        powers = np.prod(X[:, None, :] ** np.maximum(lowered, 0), axis=2)
+        jacobian[:, :, k] = exponents[:, k] * powers * has_k
+    return jacobian
 
 
 @pytest.mark.parametrize("n_features", [1, 2, 3, 5])

@@ -38,8 +38,8 @@ Z = PowerFactorization(random_state=0).fit_transform(X)
 gpca = GPCAClustering(
     2,
     normalize=False,
-    affinity="polynomial",
-    n_neighbors=None,
+    point_normals="one_polynomial",
+    affinity="all_pairs",
     affinity_power=1,
     refine=False,
     random_state=0,

@@ -1,0 +1,392 @@
+"""Choosing the number of subspaces (motions) by a stated criterion.
+
+A criterion is a cost of a segmentation, lower is better: a function
+``criterion(points, labels) -> float`` of the points a clusterer segmented and
+the labels it gave them. :func:`select_n_clusters` fits one segmentation per
+candidate number and keeps the cheapest; :class:`NClustersSearch` does the
+same around any clusterer (or pipeline ending in one), in the spirit of
+:class:`~sklearn.model_selection.GridSearchCV`, and exposes the winner as
+``best_estimator_``. ``GPCAClustering(n_clusters="auto")`` and
+``GPCAClustering.score`` use the default criterion, :func:`coding_length_cost`.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import warnings
+
+import numpy as np
+from scipy.special import logsumexp
+from sklearn.base import (
+    BaseEstimator,
+    ClusterMixin,
+    MetaEstimatorMixin,
+    _fit_context,
+    clone,
+)
+from sklearn.exceptions import FitFailedWarning
+from sklearn.pipeline import Pipeline
+from sklearn.utils._param_validation import HasMethods, StrOptions
+from sklearn.utils.validation import check_is_fitted
+
+from sklearn_gpca._coding_length import coding_length
+from sklearn_gpca._rows import unit_rows
+from sklearn_gpca._subspaces import fit_subspaces, sine_residuals
+
+# Distortion (root mean squared error per unit point) of the coding length.
+CODING_DISTORTION = 0.03
+
+
+def coding_length_cost(points, labels):
+    """Lossy coding length, in bits, of the unit points segmented by ``labels``.
+
+    The number of bits needed to code the points scaled to unit norm up to a
+    distortion of 0.03 per point, each group by its own zero-mean Gaussian,
+    plus the bits of the group memberships (Ma, Derksen, Hong & Wright, PAMI
+    2007). Splitting a subspace in two costs more bits than it saves, and so
+    does merging two subspaces into one of higher dimension: the minimum over
+    the number of groups is a model-selection criterion with no further
+    penalty.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_samples, n_features)
+        The points that were segmented (e.g. trajectories projected to
+        :math:`R^5`).
+    labels : ndarray of shape (n_samples,)
+        Non-negative group of each point.
+
+    Returns
+    -------
+    bits : float
+        Lower is better.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca import coding_length_cost
+    >>> rng = np.random.RandomState(0)
+    >>> X = np.vstack([np.c_[rng.randn(50, 2), np.zeros(50)],
+    ...                np.c_[np.zeros(50), rng.randn(50, 2)]])
+    >>> y = np.repeat([0, 1], 50)
+    >>> bool(coding_length_cost(X, y) < coding_length_cost(X, 0 * y))
+    True
+    """
+    return coding_length(unit_rows(points), labels, CODING_DISTORTION)
+
+
+def sine_likelihood_cost(points, labels):
+    """Minus a penalised likelihood of the sine distances to the groups' hyperplanes.
+
+    With ``d_ik`` the sine of the angle between point ``x_i`` and the
+    hyperplane fitted to group ``k`` (``n`` groups of ``P`` points in
+    :math:`R^K`), the cost is ``P`` times ::
+
+        - mean_i log( (1 / n) sum_k 1 / (d_ik + 1e-6) )
+            + n (K - 1) log(P) / (2 P)
+
+    the negative log-likelihood, up to a constant, of an equal-weight mixture
+    of scale-free (``1 / d``) densities of the sine distance, plus the BIC
+    penalty of the ``n`` unit normals. Hyperplanes that contain their points
+    exactly make the first term small whatever ``K``, and the penalty grows
+    with ``K``: on noise-free unions of hyperplanes it is smallest at the true
+    number of groups and at the rank that makes the subspaces hyperplanes, so
+    it can compare ranks, which :func:`coding_length_cost` cannot (fewer
+    dimensions always code in fewer bits). With noise it tends to prefer
+    more groups than there are.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_samples, n_features)
+        The points that were segmented.
+    labels : ndarray of shape (n_samples,)
+        Non-negative group of each point.
+
+    Returns
+    -------
+    cost : float
+        Lower is better.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca import sine_likelihood_cost
+    >>> rng = np.random.RandomState(0)
+    >>> X = np.vstack([np.c_[rng.randn(50, 2), np.zeros(50)],
+    ...                np.c_[np.zeros(50), rng.randn(50, 2)]])
+    >>> y = np.repeat([0, 1], 50)
+    >>> bool(sine_likelihood_cost(X, y) < sine_likelihood_cost(X, 0 * y))
+    True
+    """
+    unit = unit_rows(points)
+    n_samples, n_features = unit.shape
+    groups = np.unique(labels, return_inverse=True)[1].reshape(-1)
+    n_groups = groups.max() + 1
+    bases, _ = fit_subspaces(unit, groups, n_groups, n_features - 1, 0.0)
+    sines = np.sqrt(sine_residuals(unit, bases))
+    fit = np.mean(logsumexp(-np.log(sines + _SINE_FLOOR), axis=1)) - np.log(n_groups)
+    penalty = n_groups * (n_features - 1) * np.log(n_samples) / (2 * n_samples)
+    return float(n_samples * (penalty - fit))
+
+
+# Sine distances below this floor count as a perfect fit.
+_SINE_FLOOR = 1e-6
+
+CRITERIA = {
+    "coding_length": coding_length_cost,
+    "sine_likelihood": sine_likelihood_cost,
+}
+
+
+def criterion_function(criterion):
+    """The function of a criterion given by name or as a callable."""
+    return CRITERIA[criterion] if isinstance(criterion, str) else criterion
+
+
+def select_n_clusters(segment, n_clusters, *, criterion="coding_length"):
+    """The segmentation, among one per candidate number, that costs least.
+
+    Parameters
+    ----------
+    segment : callable
+        ``segment(n) -> (points, labels, fitted)``: segments into ``n``
+        clusters and returns the points it segmented, their labels and the
+        fitted object (an estimator, or the result of a function).
+    n_clusters : sequence of int
+        The candidate numbers, each passed to ``segment``.
+    criterion : {"coding_length", "sine_likelihood"} or callable, \
+default="coding_length"
+        ``criterion(points, labels) -> float``, lower is better;
+        ``"coding_length"`` is :func:`coding_length_cost`,
+        ``"sine_likelihood"`` :func:`sine_likelihood_cost`.
+
+    Returns
+    -------
+    best : int
+        Index in ``n_clusters`` of the cheapest segmentation (the first one on
+        ties).
+    costs : ndarray of shape (len(n_clusters),)
+        The criterion of each segmentation.
+    fitted : list
+        What ``segment`` returned third, for each candidate.
+
+    Notes
+    -----
+    The warnings of the fits are collected and each distinct one is raised
+    once, not once per candidate.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca import gpca, select_n_clusters
+    >>> rng = np.random.RandomState(0)
+    >>> X = np.vstack([np.c_[rng.randn(40, 2), np.zeros(40)],
+    ...                np.c_[np.zeros(40), rng.randn(40, 2)]])
+    >>> def segment(n):
+    ...     result = gpca(X, n, random_state=0)
+    ...     return X, result.labels, result
+    >>> best, costs, results = select_n_clusters(segment, [1, 2, 3])
+    >>> [1, 2, 3][best]
+    2
+    """
+    criterion = criterion_function(criterion)
+    costs, fitted, caught = [], [], {}
+    for n in n_clusters:
+        with warnings.catch_warnings(record=True) as records:
+            warnings.simplefilter("always")
+            points, labels, result = segment(n)
+        caught.update(dict.fromkeys((r.category, str(r.message)) for r in records))
+        costs.append(criterion(points, labels))
+        fitted.append(result)
+    for category, message in caught:
+        warnings.warn(message, category, stacklevel=2)
+    costs = np.asarray(costs, dtype=np.float64)
+    return int(np.argmin(costs)), costs, fitted
+
+
+def _final_step(estimator):
+    return estimator.steps[-1][1] if isinstance(estimator, Pipeline) else estimator
+
+
+class NClustersSearch(MetaEstimatorMixin, ClusterMixin, BaseEstimator):
+    """Choose a clusterer's number of clusters by a stated criterion.
+
+    Fits a clone of ``estimator`` for every candidate ``n_clusters`` and keeps
+    the one whose segmentation the criterion prefers: by default the lossy
+    coding length of the points the clusterer segmented
+    (:func:`coding_length_cost`). Works around a clusterer or a
+    :class:`~sklearn.pipeline.Pipeline` ending in one, e.g.
+    ``make_pipeline(PowerFactorization(), GPCAClustering())``, whose final
+    step's ``n_clusters`` is searched and whose last input is scored.
+
+    Parameters
+    ----------
+    estimator : estimator object
+        A clusterer with an ``n_clusters`` parameter and a ``labels_``
+        attribute, or a pipeline ending in one.
+    n_clusters_grid : sequence of int, default=(1, 2, 3, 4, 5)
+        The candidate numbers of clusters.
+    criterion : {"coding_length", "sine_likelihood"} or callable, \
+default="coding_length"
+        ``criterion(points, labels) -> float``, lower is better (see
+        :func:`select_n_clusters`).
+
+    Attributes
+    ----------
+    best_estimator_ : estimator object
+        The fitted clone with the cheapest segmentation.
+    best_n_clusters_ : int
+        Its number of clusters.
+    costs_ : ndarray of shape (len(n_clusters_grid),)
+        The criterion of each candidate; ``inf`` where the fit failed (a
+        :class:`~sklearn.exceptions.FitFailedWarning` says why).
+    labels_ : ndarray of shape (n_samples,)
+        The labels of ``best_estimator_``.
+    n_features_in_ : int
+        Number of features seen during :term:`fit`.
+
+    See Also
+    --------
+    select_n_clusters : The same choice over any segmenting function.
+    sklearn.model_selection.GridSearchCV : Cross-validated search over any
+        parameter, by the estimator's ``score``.
+
+    Notes
+    -----
+    The criterion is measured on the clusterer's own input, so it compares
+    numbers of clusters at a fixed representation. Comparing ranks of a
+    preceding projection needs a criterion measured in a common space.
+
+    Examples
+    --------
+    >>> from sklearn.pipeline import make_pipeline
+    >>> from sklearn_gpca import GPCAClustering, NClustersSearch, PowerFactorization
+    >>> from sklearn_gpca.datasets import make_motions
+    >>> X, y = make_motions(2, n_points=200, random_state=0)
+    >>> pipe = make_pipeline(PowerFactorization(random_state=0),
+    ...                      GPCAClustering(random_state=0))
+    >>> search = NClustersSearch(pipe, n_clusters_grid=[1, 2, 3]).fit(X)
+    >>> search.best_n_clusters_
+    2
+    """
+
+    _parameter_constraints: dict = {
+        "estimator": [HasMethods(["fit"])],
+        "n_clusters_grid": ["array-like"],
+        "criterion": [StrOptions(set(CRITERIA)), callable],
+    }
+
+    def __init__(
+        self,
+        estimator,
+        *,
+        n_clusters_grid=(1, 2, 3, 4, 5),
+        criterion="coding_length",
+    ):
+        self.estimator = estimator
+        self.n_clusters_grid = n_clusters_grid
+        self.criterion = criterion
+
+    def _segment(self, X, n):
+        model = clone(self.estimator)
+        if isinstance(model, Pipeline):
+            model.set_params(**{f"{model.steps[-1][0]}__n_clusters": n})
+            points = model[:-1].fit_transform(X)
+            model.steps[-1][1].fit(points)
+        else:
+            model.set_params(n_clusters=n)
+            points = X
+            model.fit(points)
+        return points, _final_step(model).labels_, model
+
+    @_fit_context(prefer_skip_nested_validation=False)
+    def fit(self, X, y=None):
+        """Fit one clone per candidate number of clusters and keep the best.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_samples, n_features)
+            Training data, as ``estimator`` takes it.
+        y : Ignored
+            Not used, present for API consistency by convention.
+
+        Returns
+        -------
+        self : object
+            Fitted search.
+        """
+        candidates = [int(n) for n in self.n_clusters_grid]
+        failures = {}
+
+        def segment(n):
+            try:
+                return self._segment(X, n)
+            except ValueError as exc:
+                failures[n] = exc
+                return None, None, None
+
+        def cost(points, labels):
+            if points is None:
+                return np.inf
+            return criterion_function(self.criterion)(np.asarray(points), labels)
+
+        best, self.costs_, fitted = select_n_clusters(
+            segment, candidates, criterion=cost
+        )
+        if len(failures) == len(candidates):
+            raise next(iter(failures.values()))
+        for n, exc in failures.items():
+            warnings.warn(
+                f"n_clusters={n} was skipped: its fit failed with {exc}",
+                FitFailedWarning,
+                stacklevel=2,
+            )
+        self.best_estimator_ = fitted[best]
+        self.best_n_clusters_ = candidates[best]
+        self.labels_ = _final_step(self.best_estimator_).labels_
+        self.n_features_in_ = self.best_estimator_.n_features_in_
+        if hasattr(self.best_estimator_, "feature_names_in_"):
+            self.feature_names_in_ = self.best_estimator_.feature_names_in_
+        return self
+
+    def predict(self, X):
+        """Labels of ``X`` by the best estimator.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_samples, n_features)
+            New data.
+
+        Returns
+        -------
+        labels : ndarray of shape (n_samples,)
+        """
+        check_is_fitted(self)
+        return self.best_estimator_.predict(X)
+
+    def score(self, X, y=None):
+        """Minus the criterion per sample of ``X`` segmented by ``predict``.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_samples, n_features)
+            Data, e.g. held out.
+        y : Ignored
+            Not used, present for API consistency by convention.
+
+        Returns
+        -------
+        score : float
+            Higher is better.
+        """
+        check_is_fitted(self)
+        best = self.best_estimator_
+        points = best[:-1].transform(X) if isinstance(best, Pipeline) else X
+        labels = best.predict(X)
+        points = np.asarray(points)
+        return -criterion_function(self.criterion)(points, labels) / points.shape[0]
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        inner = self.estimator.__sklearn_tags__()
+        tags.input_tags = inner.input_tags
+        return tags
