@@ -17,6 +17,7 @@ from sklearn_gpca._model_selection import (
 )
 from sklearn_gpca._motion import estimate_motions
 from sklearn_gpca._motion_segmentation import MotionSegmentation
+from sklearn_gpca._perspective import PerspectiveClustering
 from sklearn_gpca._pipeline import paper_pipeline
 from sklearn_gpca._power_factorization import PowerFactorization, power_factorization
 from sklearn_gpca._segment import segment_motions
@@ -31,6 +32,7 @@ __all__ = [
     "GPCAClustering",
     "MotionSegmentation",
     "NClustersSearch",
+    "PerspectiveClustering",
     "PowerFactorization",
     "ShapeInteractionClustering",
     "__version__",
