@@ -19,9 +19,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     The estimator of :func:`segment_motions`: full-space segmentation of
     trajectories as a tracker gives them (NaN where a track is not seen),
     beyond the paper's projection to ``R^5``. Candidate segmentations from
-    motion-affinity fragments and from ``PowerFactorization`` +
-    ``GPCAClustering`` are refined by smoothed K-subspaces on each track's
-    observed entries in ``R^{2F}``, and the shortest coding length is kept;
+    motion-affinity fragments, from ``PowerFactorization`` +
+    ``GPCAClustering`` and from votes for local perspective and subspace
+    hypotheses (:class:`PerspectiveClustering`) are refined by smoothed
+    K-subspaces on each track's observed entries in ``R^{2F}``, and the
+    shortest coding length is kept;
     optionally, tracks that fit no motion are labelled ``-1``. See
     :func:`segment_motions` for the stages and every parameter.
 
@@ -30,7 +32,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     n_clusters : int, default=2
         Number of motions.
 
-    init : {"auto", "fragments", "gpca"}, default="auto"
+    init : {"auto", "fragments", "gpca", "votes"}, default="auto"
         Candidate segmentations (see :func:`segment_motions`).
 
     subspace_dim : int, default=4
@@ -99,7 +101,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
 
     _parameter_constraints: dict = {
         "n_clusters": [Interval(Integral, 1, None, closed="left")],
-        "init": [StrOptions({"auto", "fragments", "gpca"})],
+        "init": [StrOptions({"auto", "fragments", "gpca", "votes"})],
         "subspace_dim": [Interval(Integral, 1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
         "n_neighbors": [Interval(Integral, 1, None, closed="left")],
