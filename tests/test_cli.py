@@ -781,16 +781,24 @@ def reported_seconds(rows):
     return float(match.group(1))
 
 
-def test_demo_reports_the_draw_it_was_asked_for(capsys):
+def test_demo_reports_the_draw_it_was_asked_for(capsys, monkeypatch):
     """Every option reaches the draw and the pipeline: the printed error is
     the one of that draw, and it is far from zero, so that a different draw
     or a default pipeline would print another number."""
+    import sklearn.pipeline
     from sklearn.pipeline import make_pipeline
 
     from sklearn_gpca import GPCAClustering, PowerFactorization
 
+    built = []
+
+    def spy_make_pipeline(*steps):
+        built.append(make_pipeline(*steps))
+        return built[-1]
+
+    monkeypatch.setattr(sklearn.pipeline, "make_pipeline", spy_make_pipeline)
     argv = ["demo", "--n-motions", "3", "--n-points", "20", "--n-frames", "5"]
-    argv += ["--noise", "5", "--missing", "0.3", "--missing-pattern", "random"]
+    argv += ["--noise", "5", "--missing", "0.3", "--missing-pattern", "occlusion"]
     argv += ["--random-state", "3"]
     elapsed, out = elapsed_and_output(capsys, argv)
     X, y = make_motions(
@@ -799,9 +807,14 @@ def test_demo_reports_the_draw_it_was_asked_for(capsys):
         n_frames=5,
         noise=5.0,
         missing=0.3,
-        missing_pattern="random",
+        missing_pattern="occlusion",
         random_state=3,
     )
+    (pipeline,) = built
+    params = pipeline.get_params()
+    assert params["powerfactorization__random_state"] == 3
+    assert params["gpcaclustering__random_state"] == 3
+    assert params["gpcaclustering__n_clusters"] == 3
     labels = make_pipeline(
         PowerFactorization(random_state=3), GPCAClustering(3, random_state=3)
     ).fit_predict(X)
@@ -818,7 +831,7 @@ def test_demo_reports_the_draw_it_was_asked_for(capsys):
         "frames": "5",
         "motions": "3",
         "noise": "5 px",
-        "missing entries": f"{100 * np.isnan(X).mean():.1f} % (random)",
+        "missing entries": f"{100 * np.isnan(X).mean():.1f} % (occlusion)",
         "misclassified": f"{100 * error:.2f} %",
         "time": rows["time"],
     }
@@ -1029,6 +1042,8 @@ def test_parser_defaults_and_choices(capsys):
         ["demo", "--noise", "0", "--missing", "0", "--random-state", "7"]
     )
     assert (given.noise, given.missing, given.random_state) == (0.0, 0.0, 7)
+    smallest = parser.parse_args(["demo", "--n-points", "1", "--n-frames", "3"])
+    assert (smallest.n_points, smallest.n_frames) == (1, 3)
     for pattern in ["random", "occlusion"]:
         args = parser.parse_args(["demo", "--missing-pattern", pattern])
         assert args.missing_pattern == pattern
@@ -1040,6 +1055,7 @@ def test_parser_defaults_and_choices(capsys):
         ([], "the following arguments are required: command"),
         (["demo", "--missing-pattern", "bursts"], "invalid choice: 'bursts'"),
         (["demo", "--noise", "loud"], "--noise: must be a number, got 'loud'"),
+        (["demo", "--n-points", "1.5"], "--n-points: must be an integer, got '1.5'"),
     ],
 )
 def test_more_bad_arguments_get_one_line(capsys, argv, message):
@@ -1049,3 +1065,14 @@ def test_more_bad_arguments_get_one_line(capsys, argv, message):
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1
     assert message in lines[0], lines[0]
+
+
+def test_main_reads_sys_argv_by_default(tmp_path, capsys, monkeypatch):
+    absent = tmp_path / "absent.npz"
+    argv = ["/usr/bin/sklearn-gpca", "segment", str(absent), "--n-motions", "2"]
+    monkeypatch.setattr(sys, "argv", argv)
+    assert main() == 2
+    assert (
+        capsys.readouterr().err
+        == f"sklearn-gpca segment: error: {absent}: no such file\n"
+    )

@@ -356,6 +356,17 @@ def test_odd_columns_hint_at_a_label_column_only_for_csv(tmp_path, complete):
     )
 
 
+def test_odd_csv_columns_suggest_a_label_column(tmp_path, complete):
+    X, _ = complete
+    path = tmp_path / "t.csv"
+    path.write_text(csv_text(X[:, :-1]))
+    assert message_of(path) == (
+        f"{path}: X has an odd number of columns (7); rows must be "
+        "[x_1, y_1, ..., x_F, y_F]; name a label column in a header row (label, "
+        "labels, s, y_true, ...)"
+    )
+
+
 def test_frame_and_trajectory_counts_at_the_limits(tmp_path, complete):
     X, _ = complete
     # three frames and two trajectories are enough
