@@ -16,8 +16,11 @@ from sklearn_gpca._model_selection import (
     sine_likelihood_cost,
 )
 from sklearn_gpca._motion import estimate_motions
+from sklearn_gpca._motion_segmentation import MotionSegmentation
+from sklearn_gpca._perspective import PerspectiveClustering
 from sklearn_gpca._pipeline import paper_pipeline
 from sklearn_gpca._power_factorization import PowerFactorization, power_factorization
+from sklearn_gpca._segment import segment_motions
 from sklearn_gpca._shape_interaction import (
     ShapeInteractionClustering,
     shape_interaction_matrix,
@@ -27,7 +30,9 @@ __version__ = "0.1.0.dev0"
 
 __all__ = [
     "GPCAClustering",
+    "MotionSegmentation",
     "NClustersSearch",
+    "PerspectiveClustering",
     "PowerFactorization",
     "ShapeInteractionClustering",
     "__version__",
@@ -37,6 +42,7 @@ __all__ = [
     "k_subspaces",
     "paper_pipeline",
     "power_factorization",
+    "segment_motions",
     "select_n_clusters",
     "shape_interaction_matrix",
     "sine_likelihood_cost",

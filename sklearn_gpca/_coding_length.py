@@ -2,7 +2,7 @@
 
 Ma, Derksen, Hong and Wright, "Segmentation of multivariate mixed data via
 lossy data coding and compression" (PAMI 2007): the number of bits needed to
-code ``m`` vectors of ``R^D`` up to a distortion ``eps``, when they are split
+code ``m`` vectors of :math:`R^D` up to a distortion ``eps``, when they are split
 into groups each coded by its own Gaussian (here without mean: the subspaces
 are linear), plus the bits of the group memberships. Splitting a subspace in
 two costs more bits than it saves; merging two subspaces into one of higher

@@ -457,7 +457,7 @@ def gpca(
     Parameters
     ----------
     X : array-like of shape (n_samples, n_features)
-        Complete points, e.g. trajectories projected to ``R^5``; all-zero rows
+        Complete points, e.g. trajectories projected to :math:`R^5`; all-zero rows
         are left out with a warning.
     n_clusters : int, default=2
         Number of subspaces, the degree of the polynomials.
@@ -713,7 +713,7 @@ default="coding_length"
 
     Notes
     -----
-    With ``P`` points ``w_i`` in ``R^K`` and ``n = n_clusters``, the Veronese
+    With ``P`` points ``w_i`` in :math:`R^K` and ``n = n_clusters``, the Veronese
     map ``nu_n`` stacks the ``M_n = C(n + K - 1, n)`` monomials of degree ``n``
     of each point (section 2.2.2). The coefficients ``c`` are the least-squares
     solution of equation (9), ``W~^T c = 0`` with ``||c|| = 1``: the eigenvector
@@ -731,7 +731,7 @@ default="coding_length"
     With two or more lower-dimensional subspaces the vanishing polynomials form
     a space of dimension greater than one and the gradient of a single one of
     them varies along each subspace, so the segmentation degrades (e.g. two
-    2-D planes in ``R^5``); several polynomials are needed then (section 2.2.4,
+    2-D planes in :math:`R^5`); several polynomials are needed then (section 2.2.4,
     "Modelling low-dimension subspaces"): ``point_normals="all_polynomials"``
     takes the ``n_polynomials_`` least singular vectors of ``W~`` (their number
     from the largest gap of its log singular values) and, at each point, the
@@ -764,7 +764,7 @@ default="coding_length"
     ``sum_k cut(C_k, rest) / vol(C_k)`` on the kNN graph weighted by the
     polynomial gradients (the paper's normals, power ``q``), among the
     candidates whose residual is at most 3 times the smallest: where two
-    motions overlap in ``R^5`` the cut alone can prefer merging them and
+    motions overlap in :math:`R^5` the cut alone can prefer merging them and
     splitting a third one in two, a segmentation whose hyperplanes fit
     several times worse. ``benchmarks/results/selection.md`` measures how
     the cut and the residual agree with the error on Hopkins155.
@@ -918,7 +918,7 @@ default="coding_length"
         Parameters
         ----------
         X : array-like of shape (n_samples, n_features)
-            Complete points, e.g. trajectories projected onto ``R^5``.
+            Complete points, e.g. trajectories projected onto :math:`R^5`.
         y : Ignored
             Not used, present for API consistency by convention.
 

@@ -51,7 +51,7 @@ def coding_length_cost(points, labels):
     ----------
     points : ndarray of shape (n_samples, n_features)
         The points that were segmented (e.g. trajectories projected to
-        ``R^5``).
+        :math:`R^5`).
     labels : ndarray of shape (n_samples,)
         Non-negative group of each point.
 
@@ -79,7 +79,7 @@ def sine_likelihood_cost(points, labels):
 
     With ``d_ik`` the sine of the angle between point ``x_i`` and the
     hyperplane fitted to group ``k`` (``n`` groups of ``P`` points in
-    ``R^K``), the cost is ``P`` times ::
+    :math:`R^K`), the cost is ``P`` times ::
 
         - mean_i log( (1 / n) sum_k 1 / (d_ik + 1e-6) )
             + n (K - 1) log(P) / (2 P)

@@ -1,6 +1,6 @@
 """The normal subspace at each point: step 3 of Algorithm 1 and two variants.
 
-A point ``x`` on a subspace ``S`` of ``R^K`` has as normal subspace the
+A point ``x`` on a subspace ``S`` of :math:`R^K` has as normal subspace the
 orthogonal complement of ``S``. Three estimators, chosen by
 ``GPCAClustering(point_normals=...)``:
 

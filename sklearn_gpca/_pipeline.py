@@ -11,7 +11,7 @@ from sklearn_gpca._power_factorization import PowerFactorization
 def paper_pipeline(n_clusters, *, random_state=None):
     """Algorithm 1 of Vidal & Hartley (CVPR 2004), exactly as published.
 
-    Steps 1-3: project the trajectories to ``R^5`` with PowerFactorization
+    Steps 1-3: project the trajectories to :math:`R^5` with PowerFactorization
     (the rows of ``V`` of the SVD for complete data), fit one homogeneous
     polynomial of degree ``n_clusters`` to the projected points, and cluster
     them spectrally with the similarity ``cos^2`` of the angles between the

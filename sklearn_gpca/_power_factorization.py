@@ -253,7 +253,7 @@ class PowerFactorization(
     Attributes
     ----------
     components_ : ndarray of shape (n_components, n_features)
-        Orthonormal basis of the fitted subspace of ``R^{n_features}``,
+        Orthonormal basis of the fitted subspace of the feature space :math:`R^{2F}`,
         ordered by decreasing singular value.
 
     singular_values_ : ndarray of shape (n_components,)

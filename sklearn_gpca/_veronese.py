@@ -1,6 +1,6 @@
 """Veronese embedding of points and derivatives of homogeneous polynomials.
 
-The Veronese map of degree ``n`` sends a point ``x`` in ``R^K`` to the vector
+The Veronese map of degree ``n`` sends a point ``x`` in :math:`R^K` to the vector
 ``nu_n(x)`` of all ``M_n = C(n + K - 1, n)`` monomials ``x^e = x_1^e_1 ...
 x_K^e_K`` with ``|e| = n`` (section 2.2.2 of Vidal & Hartley, CVPR 2004). A
 homogeneous polynomial of degree ``n`` is ``p(x) = c^T nu_n(x)`` and its gradient
@@ -71,7 +71,7 @@ def veronese_map(X, degree):
     Parameters
     ----------
     X : ndarray of shape (n_samples, n_features)
-        Points in ``R^K``.
+        Points in :math:`R^K`.
     degree : int
         Degree ``n >= 0`` of the embedding.
 
@@ -133,7 +133,7 @@ def polynomial_gradients(X, coef, degree):
     Parameters
     ----------
     X : ndarray of shape (n_samples, n_features)
-        Points in ``R^K``.
+        Points in :math:`R^K`.
     coef : ndarray of shape (M_n,) or (M_n, n_polynomials)
         Coefficients of one polynomial, or one polynomial per column, in the
         monomial order of :func:`veronese_exponents`.

@@ -1,10 +1,10 @@
 """Synthetic multibody motion trajectories seen by an affine camera.
 
 The generators follow the model of Vidal & Hartley (CVPR 2004), section 2:
-the image of point ``p`` in frame ``f`` is ``x_fp = A_f X_p`` with an affine
+the image of point ``p`` in frame ``f`` is :math:`x_{fp} = A_f X_p` with an affine
 camera matrix ``A_f`` (2 x 4) and homogeneous 3-D point ``X_p``, so the
 trajectories of one rigid object span a subspace of dimension 2, 3 or 4 of
-``R^{2F}``.
+:math:`R^{2F}`.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -185,7 +185,7 @@ def make_motions(
 
     motion_types : {"full", "planar", "linear"} or list of them, default=None
         Structure of each object, which sets the dimension of its motion
-        subspace of ``R^{2F}`` (for ``F >= 2`` and generic motion):
+        subspace of :math:`R^{2F}` (for ``F >= 2`` and generic motion):
 
         - ``"full"``: general 3-D points, ``rank [X_p; 1] = 4``, subspace of
           dimension 4;

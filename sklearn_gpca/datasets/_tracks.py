@@ -108,7 +108,7 @@ def _end_reasons(births, ends, exits, in_view, n_frames):
 
 
 def _motion_matrices(scene, camera):
-    """Exact affine camera of each motion, ``x_fp = M[k, 2f:2f+2] [X_p; 1]``."""
+    """Exact affine camera of each motion, :math:`x_{fp} = M_{k,f} [X_p; 1]`."""
     n_frames = scene.camera_rotations.shape[0]
     n_motions = camera.zref.shape[0]
     matrices = np.empty((n_motions, n_frames, 2, 4))

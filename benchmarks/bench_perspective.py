@@ -1,0 +1,228 @@
+"""The perspective route against the affine route on strong-perspective tracks.
+
+Run from the project root::
+
+    python benchmarks/bench_perspective.py [--seeds 5] [--skip-affine]
+
+For each setting and seed, draws ``make_tracks(n_motions, scene="driving",
+outlier_fraction=0, random_state=seed, ...)``, keeps the tracks observed in 5
+frames or more (KT3DMoSeg keeps those; the affine route needs 3 frames per
+track), and segments them with:
+
+- the affine route, the library's default pipeline
+  ``make_pipeline(PowerFactorization(), GPCAClustering(n, random_state=0))``;
+- the affine oracle: each track to the nearest true rank-4 subspace on its
+  observed entries (``sklearn_gpca.metrics.oracle_labels`` when the package
+  has it, else the same definition below); it is given the true groups;
+- the perspective route, ``PerspectiveClustering(n, random_state=0)`` with
+  its defaults (fundamental matrices, homographies and windowed subspaces
+  fused), and each of its models alone.
+
+Errors are misclassification rates of the inlier tracks (outliers are a
+separate item of issue 17 and left out of the draws), in percent, mean and
+median over seeds; seconds are per sequence, wall clock, default BLAS threads.
+
+What counts as strong perspective: a pinhole camera moving forward through a
+scene whose depths vary by a factor 10 (``make_tracks`` "driving" scene,
+KT3DMoSeg-like: focal length 721.5 px for a 1242 px wide image, about 81
+degrees of horizontal field of view, depths 8-80 m, 8 m/s at 10 Hz), and the
+same with a wide-angle lens closer to the scene (focal length 360 px, about
+120 degrees, depths 4-40 m): the nearer and wider, the further a rigid motion
+is from one rank-4 subspace over the sequence (``benchmarks/results/tracks.md``
+measures the deviation for the default).
+
+Tuning: ``PerspectiveClustering``'s defaults (``top``, ``n_neighbors``,
+``window``, ``gaps``, the hypergraph normalisation and the kernel k-means
+refinement) were chosen by hand on seeds 100-105 of the default "driving"
+setting; the seeds reported here (0 .. seeds - 1) were not used for tuning,
+and nothing was tuned on the wide-angle setting. Writes
+``benchmarks/results/perspective.md``.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import argparse
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+from _tables import write_markdown
+from sklearn.pipeline import make_pipeline
+
+from sklearn_gpca import GPCAClustering, PerspectiveClustering, PowerFactorization
+from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.metrics import misclassification_rate
+
+SETTINGS = [
+    ("driving (KT3DMoSeg-like), 3 motions", {"n_motions": 3}),
+    ("driving, 5 motions", {"n_motions": 5}),
+    (
+        "driving, wide angle (f = 360 px), depths 4-40 m, 3 motions",
+        {"n_motions": 3, "focal_length": 360, "depth_range": (4, 40), "n_tracks": 800},
+    ),
+]
+
+#: Tracks seen in fewer frames are left out, as KT3DMoSeg does.
+MIN_FRAMES = 5
+
+PERSPECTIVE_MODELS = {
+    "perspective route (F + H + subspace)": ("fundamental", "homography", "subspace"),
+    "fundamental matrices alone": ("fundamental",),
+    "homographies alone": ("homography",),
+    "windowed subspaces alone": ("subspace",),
+}
+
+
+def _oracle_fallback(X, y, subspace_dim=4, n_iter=50):
+    """Nearest true rank-d subspace on each track's observed entries.
+
+    The definition of ``sklearn_gpca.metrics.oracle_labels``: a subspace per
+    group fitted to its observed entries (alternating least squares from the
+    zero-filled SVD), each track to the group with the smallest residual per
+    residual degree of freedom on its own observed entries.
+    """
+    mask = ~np.isnan(X)
+    X0 = np.where(mask, X, 0.0)
+    groups = np.unique(y[y != -1])
+    per_dof = np.full((X.shape[0], groups.size), np.inf)
+    for k, g in enumerate(groups):
+        Xg, Mg = X0[y == g], mask[y == g]
+        B = np.linalg.svd(Xg, full_matrices=False)[2][:subspace_dim].T
+        for _ in range(n_iter):
+            # rows: coefficients of each track; then the basis, row by row.
+            G = np.einsum("pf,fi,fj->pij", Mg, B, B) + 1e-12 * np.eye(subspace_dim)
+            Z = np.linalg.solve(G, np.einsum("pf,fi->pi", Xg, B)[..., None])[..., 0]
+            H = np.einsum("pf,pi,pj->fij", Mg, Z, Z) + 1e-12 * np.eye(subspace_dim)
+            B = np.linalg.solve(H, np.einsum("pf,pi->fi", Xg, Z)[..., None])[..., 0]
+        G = np.einsum("pf,fi,fj->pij", mask, B, B) + 1e-12 * np.eye(subspace_dim)
+        Z = np.linalg.solve(G, np.einsum("pf,fi->pi", X0, B)[..., None])[..., 0]
+        residual = (np.where(mask, X0 - Z @ B.T, 0.0) ** 2).sum(axis=1)
+        dof = mask.sum(axis=1) - subspace_dim
+        per_dof[:, k] = np.where(dof > 0, residual / np.maximum(dof, 1), np.inf)
+    return groups[np.argmin(per_dof, axis=1)]
+
+
+try:
+    from sklearn_gpca.metrics import oracle_labels
+except ImportError:  # not merged on this branch yet
+    oracle_labels = _oracle_fallback
+
+
+def _timed(fit_labels):
+    start = time.perf_counter()
+    labels = fit_labels()
+    return labels, time.perf_counter() - start
+
+
+def run_sequence(X, y, n_motions, skip_affine):
+    """{method: (error, seconds)} on one sequence."""
+    results = {}
+    if not skip_affine:
+        pipe = make_pipeline(
+            PowerFactorization(), GPCAClustering(n_motions, random_state=0)
+        )
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            labels, seconds = _timed(lambda: pipe.fit(X)[-1].labels_)
+        results["affine route (default pipeline)"] = (labels, seconds)
+    labels, seconds = _timed(lambda: oracle_labels(X, y))
+    results["affine oracle (true groups given)"] = (labels, seconds)
+    for name, models in PERSPECTIVE_MODELS.items():
+        model = PerspectiveClustering(n_motions, models=models, random_state=0)
+        labels, seconds = _timed(lambda m=model: m.fit(X).labels_)
+        results[name] = (labels, seconds)
+    return {
+        name: (100 * misclassification_rate(y, labels, noise="ignore"), seconds)
+        for name, (labels, seconds) in results.items()
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=5)
+    parser.add_argument("--skip-affine", action="store_true")
+    parser.add_argument("--output", default="benchmarks/results/perspective.md")
+    args = parser.parse_args()
+
+    rows, ratios = [], []
+    for setting, params in SETTINGS:
+        params = dict(params)
+        n_motions = params.pop("n_motions")
+        per_seed, sizes = [], []
+        for seed in range(args.seeds):
+            X, y = make_tracks(
+                n_motions,
+                scene="driving",
+                outlier_fraction=0,
+                random_state=seed,
+                **params,
+            )
+            keep = np.isfinite(X[:, 0::2]).sum(axis=1) >= MIN_FRAMES
+            X, y = X[keep], y[keep]
+            sizes.append((X.shape[0], np.isnan(X).mean()))
+            per_seed.append(run_sequence(X, y, n_motions, args.skip_affine))
+            print(setting, seed, {k: round(v[0], 1) for k, v in per_seed[-1].items()})
+        tracks = np.mean([s[0] for s in sizes])
+        missing = np.mean([s[1] for s in sizes])
+        for name in per_seed[0]:
+            errors = np.array([r[name][0] for r in per_seed])
+            seconds = np.array([r[name][1] for r in per_seed])
+            rows.append(
+                f"| {setting} | {tracks:.0f} | {100 * missing:.0f} | {name} | "
+                f"{errors.mean():.1f} | {np.median(errors):.1f} | "
+                f"{' / '.join(f'{e:.1f}' for e in errors)} | {seconds.mean():.1f} |"
+            )
+        if not args.skip_affine:
+            affine = np.mean(
+                [r["affine route (default pipeline)"][0] for r in per_seed]
+            )
+            fused = np.mean(
+                [r["perspective route (F + H + subspace)"][0] for r in per_seed]
+            )
+            ratios.append(
+                f"| {setting} | {affine:.1f} | {fused:.1f} | "
+                f"{fused / max(affine, 1e-12):.2f} |"
+            )
+
+    command = "python benchmarks/bench_perspective.py --seeds " + str(args.seeds)
+    if args.skip_affine:
+        command += " --skip-affine"
+    text = "\n".join(
+        [
+            "# Perspective route vs affine route on strong-perspective tracks",
+            "",
+            f"`{command}` (see the script's docstring for the settings, what "
+            "counts as strong perspective and what was tuned). `make_tracks("
+            "scene='driving', outlier_fraction=0)`, tracks seen in "
+            f"{MIN_FRAMES} frames or more, seeds 0-{args.seeds - 1}; errors are "
+            "misclassification rates of the tracks in percent; seconds per "
+            "sequence, wall clock, default BLAS threads, on a shared 2-core "
+            "machine (noisy).",
+            "",
+            "| setting | tracks | missing % | method | error % mean | error % "
+            "median | error % per seed | s per sequence |",
+            "|---|---|---|---|---|---|---|---|",
+            *rows,
+            "",
+        ]
+        + (
+            [
+                "Mean error of the perspective route over the affine route's "
+                "(the issue asks for less than 0.5):",
+                "",
+                "| setting | affine route % | perspective route % | ratio |",
+                "|---|---|---|---|",
+                *ratios,
+                "",
+            ]
+            if ratios
+            else []
+        )
+    )
+    write_markdown(Path(args.output), text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()

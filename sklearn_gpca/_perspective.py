@@ -1,0 +1,436 @@
+"""Motion segmentation under a perspective camera: votes for two-view and
+subspace hypotheses, fused and clustered spectrally."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import warnings
+from numbers import Integral, Real
+
+import numpy as np
+from scipy import sparse
+from sklearn.base import BaseEstimator, ClusterMixin, _fit_context
+from sklearn.utils import check_random_state
+from sklearn.utils._param_validation import Interval
+from sklearn.utils.extmath import randomized_svd
+from sklearn.utils.validation import validate_data
+
+from sklearn_gpca._missing import describe_indices, masked_to_nan
+from sklearn_gpca._spectral import embedding_kmeans
+from sklearn_gpca._view_hypotheses import observed_frames, preference_votes
+
+_TINY = np.finfo(np.float64).tiny
+
+#: Models :class:`PerspectiveClustering` can fuse.
+MODELS = ("fundamental", "homography", "subspace")
+
+
+def _column_sums(votes):
+    return np.asarray(votes.sum(axis=0)).ravel()
+
+
+def fused_votes(X, models, *, n_hypotheses, top, gaps, window, n_neighbors, rng):
+    """Every model's votes side by side, as one factor of the fused kernel.
+
+    Each hypothesis (column) is divided by the square root of its number of
+    voters, the hyperedge normalisation of hypergraph spectral clustering
+    (Zhou, Huang & Schoelkopf, NIPS 2006): a background hypothesis that every
+    background track votes for links each pair of them less than an object
+    hypothesis links its few voters, so the dominant motion does not absorb
+    the others. Each model's block is then scaled to the same mean degree, so
+    that in the fused kernel ``sum_m w_m^2 V_m V_m^T`` every model weighs the
+    same (the kernel addition of Xu, Cheong & Li, CVPR 2018, without their
+    co-regularisation).
+
+    Returns
+    -------
+    votes : scipy.sparse.csr_array of shape (n_samples, n_columns)
+        The factor ``Phi`` of the fused kernel ``Phi Phi^T``. Models without
+        any hypothesis are left out.
+    """
+    blocks = []
+    for model in models:
+        votes, _ = preference_votes(
+            X,
+            model,
+            n_hypotheses=n_hypotheses,
+            top=top,
+            gaps=gaps,
+            window=window,
+            n_neighbors=n_neighbors,
+            random_state=rng,
+        )
+        voters = _column_sums(votes)
+        votes = votes.multiply(1.0 / np.sqrt(np.maximum(voters, 1.0))[None, :])
+        column_sums = _column_sums(votes)
+        mean_degree = column_sums @ column_sums / X.shape[0]
+        if mean_degree > 0:
+            blocks.append(votes.tocsr() / np.sqrt(mean_degree))
+    if not blocks:
+        return sparse.csr_array((X.shape[0], 0))
+    return sparse.hstack(blocks, format="csr")
+
+
+def kernel_degrees(votes):
+    """Degrees ``K 1 = Phi (Phi^T 1)`` of the kernel ``K = Phi Phi^T``."""
+    return votes @ _column_sums(votes)
+
+
+def spectral_embedding_votes(votes, n_components, random_state):
+    """Ng-Jordan-Weiss embedding of the kernel ``votes @ votes.T``, never formed.
+
+    The leading eigenvectors of ``D^{-1/2} K D^{-1/2}`` are the leading left
+    singular vectors of ``D^{-1/2} votes`` (randomized SVD on the sparse
+    matrix): time linear in the number of tracks. Rows are scaled to unit
+    norm. A track without degree has a zero row in ``D^{-1/2} votes``, hence
+    in the singular vectors, and keeps it.
+    """
+    degrees = kernel_degrees(votes)
+    scaled = votes.multiply(1.0 / np.sqrt(np.maximum(degrees, _TINY))[:, None])
+    left, _, _ = randomized_svd(
+        scaled.tocsr(),
+        n_components,
+        n_oversamples=20,
+        n_iter=10,
+        random_state=random_state,
+    )
+    norms = np.linalg.norm(left, axis=1, keepdims=True)
+    return left / np.maximum(norms, _TINY)
+
+
+def _indicator(labels, n_clusters):
+    Y = np.zeros((labels.shape[0], n_clusters))
+    Y[np.arange(labels.shape[0]), labels] = 1.0
+    return Y
+
+
+def refine_normalized_cut(votes, labels, n_clusters, max_iter):
+    """Weighted kernel k-means on ``K = votes @ votes.T``: lowers the ncut.
+
+    With weights ``d`` (the degrees) and kernel ``D^{-1} K D^{-1}``, kernel
+    k-means decreases the normalised cut at every step (Dhillon, Guan &
+    Kulis, KDD 2004): track ``i`` moves to the cluster ``c`` minimising
+    ``-2 (K Y)_ic / (d_i s_c) + (Y^T K Y)_cc / s_c^2`` with ``s_c`` the
+    cluster's volume. ``K Y = Phi (Phi^T Y)``: linear in the number of tracks.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+    n_iter : int
+        Rounds run; stops when no label changes.
+    """
+    degrees = np.maximum(kernel_degrees(votes), _TINY)
+    labels = np.asarray(labels, dtype=np.intp)
+    n_iter = 0
+    while n_iter < max_iter:
+        n_iter += 1
+        Y = _indicator(labels, n_clusters)
+        KY = votes @ (votes.T @ Y)
+        volumes = degrees @ Y
+        within = np.einsum("pc,pc->c", Y, KY)
+        safe = np.maximum(volumes, _TINY)
+        cost = -2.0 * (KY / degrees[:, None]) / safe + within / safe / safe
+        # An emptied cluster stays empty: spectral clustering chose n_clusters.
+        cost[:, volumes <= 0] = np.inf
+        new = np.argmin(cost, axis=1).astype(np.intp)
+        if np.array_equal(new, labels):
+            break
+        labels = new
+    return labels, n_iter
+
+
+def normalized_cut_votes(votes, labels, n_clusters):
+    """Normalised cut ``sum_c cut(c) / vol(c)`` of a labelling on ``K``."""
+    Z = votes.T @ _indicator(labels, n_clusters)
+    weights = Z.T @ Z
+    volumes = weights.sum(axis=1)
+    if np.any(volumes <= 0):
+        return np.inf
+    return float(np.sum((volumes - np.diag(weights)) / volumes))
+
+
+def perspective_clustering(
+    X,
+    n_clusters,
+    *,
+    models=MODELS,
+    n_hypotheses=100,
+    top=0.05,
+    gaps=(1, 2, 4, 8),
+    window=4,
+    n_neighbors=10,
+    max_iter=30,
+    n_init=10,
+    random_state=None,
+):
+    """Segment tracks by their votes for perspective and affine hypotheses.
+
+    The function behind :class:`PerspectiveClustering`, which documents the
+    parameters; ``X`` must be validated already (float, NaN where missing).
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+        Labels in ``0 .. n_clusters - 1``.
+    votes : scipy.sparse.csr_array of shape (n_samples, n_columns)
+        The factor of the fused kernel.
+    n_iter : int
+        Rounds of the kernel k-means refinement.
+    """
+    rng = check_random_state(random_state)
+    votes = fused_votes(
+        X,
+        models,
+        n_hypotheses=n_hypotheses,
+        top=top,
+        gaps=gaps,
+        window=window,
+        n_neighbors=n_neighbors,
+        rng=rng,
+    )
+    if votes.shape[1] == 0:
+        raise ValueError(
+            "No frame pair or window has more co-visible tracks than a "
+            "minimal sample (4 for homographies and subspaces, 8 for "
+            "fundamental matrices): there is nothing to vote for."
+        )
+    if n_clusters == 1:
+        return np.zeros(X.shape[0], dtype=np.intp), votes, 0
+    embedding = spectral_embedding_votes(votes, n_clusters, rng)
+    labels = embedding_kmeans(embedding, n_clusters, n_init=n_init, random_state=rng)
+    labels, n_iter = refine_normalized_cut(votes, labels, n_clusters, max_iter)
+    return labels, votes, n_iter
+
+
+class PerspectiveClustering(ClusterMixin, BaseEstimator):
+    """Segment tracks seen by a perspective camera, with missing entries.
+
+    Rigid motions seen by a pinhole camera with strong perspective (a short
+    focal length, a large depth range, forward motion) are not the rank-4
+    subspaces of the affine model over a whole sequence. This clusterer uses
+    models that hold under perspective, or hold locally in time:
+
+    - fundamental matrices (any rigid motion) and homographies (planar
+      surfaces, rotations) between the frames ``f`` and ``f + g``;
+    - rank-4 subspaces of the tracks on windows of a few consecutive frames,
+      where the affine model is still close.
+
+    Each model is estimated on ``n_hypotheses`` random local samples per
+    frame pair or window, drawn among the tracks observed there, and each
+    track observed there votes for the ``top`` share of the hypotheses with
+    the smallest residuals (the ordered residual kernel). The votes of all
+    models, normalised so that neither the dominant motion nor any one model
+    outweighs the others, define a kernel ``K = Phi Phi^T`` between tracks,
+    which is clustered spectrally (Ng, Jordan & Weiss) and refined by
+    weighted kernel k-means, which lowers its normalised cut. ``K`` is never
+    formed: time and memory are linear in the number of tracks for a bounded
+    number of hypotheses.
+
+    Parameters
+    ----------
+    n_clusters : int, default=2
+        Number of motions.
+    models : tuple of {"fundamental", "homography", "subspace"}, \
+            default=("fundamental", "homography", "subspace")
+        Models whose votes are fused (at least one, no repeats).
+    n_hypotheses : int, default=100
+        Hypotheses drawn per model on each frame pair (two-view models) or
+        window (subspace model).
+    top : float in (0, 1], default=0.05
+        Share of a view's hypotheses each track observed there votes for.
+    gaps : tuple of int, default=(1, 2, 4, 8)
+        Frame gaps ``g`` of the pairs ``(f, f + g)`` of the two-view models.
+        Wider gaps see more perspective; gap 1 lets tracks seen in two frames
+        vote.
+    window : int, default=4
+        Consecutive frames per window of the subspace model (at least 3: a
+        rank-4 subspace needs more than 4 coordinates).
+    n_neighbors : int, default=10
+        Locality of the samples: a random seed track and the others drawn
+        among its ``n_neighbors`` nearest co-visible tracks in the image.
+    max_iter : int, default=30
+        Maximum rounds of the kernel k-means refinement (0: none).
+    n_init : int, default=10
+        Number of k-means runs on the spectral embedding.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the samples, the randomized SVD and k-means.
+
+    Attributes
+    ----------
+    labels_ : ndarray of shape (n_samples,), dtype=intp
+        Motion of each track, in ``0 .. n_clusters - 1``.
+    n_hypotheses_ : int
+        Number of hypotheses (columns of the fused votes) over all models
+        and views.
+    n_iter_ : int
+        Rounds of the kernel k-means refinement run.
+    n_features_in_ : int
+        ``2 F`` for ``F`` frames.
+
+    See Also
+    --------
+    GPCAClustering : The affine route, after PowerFactorization.
+    sklearn.cluster.SpectralClustering : Spectral clustering of a given
+        affinity.
+
+    Notes
+    -----
+    A frame counts as observed for a track when both its coordinates are
+    finite. Fundamental matrices come from the normalised 8-point algorithm,
+    homographies from the normalised 4-point DLT, both with Sampson distances
+    as residuals (Hartley & Zisserman, *Multiple View Geometry*, 2nd ed.,
+    algorithms 4.2 and 11.1); the subspace residual is a track's distance to
+    the span of 4 tracks per residual degree of freedom. Scores are ranks, so
+    no noise scale is needed. A track gets no vote in a view with no more
+    co-visible tracks than a minimal sample; a track with no vote at all is
+    labelled by the refinement alone (with a warning). The settings were
+    chosen on ``make_tracks(scene="driving")`` draws; see
+    ``benchmarks/bench_perspective.py`` for what was tuned and the results.
+    With ``F`` frames, ``P`` tracks and ``G`` gaps, the cost is
+    ``O((G + 1) F n_hypotheses P)`` for the votes and ``O(P H)`` per
+    refinement round for ``H`` hypotheses.
+
+    References
+    ----------
+    .. [1] T.-J. Chin, H. Wang and D. Suter, "Robust fitting of multiple
+       structures: the statistical learning approach", ICCV 2009.
+    .. [2] X. Xu, L.-F. Cheong and Z. Li, "Motion segmentation by exploiting
+       complementary geometric models", CVPR 2018.
+
+    Examples
+    --------
+    >>> from sklearn_gpca.datasets import make_tracks
+    >>> from sklearn_gpca.metrics import misclassification_rate
+    >>> from sklearn_gpca import PerspectiveClustering
+    >>> X, y = make_tracks(3, scene="lab", n_tracks=200, random_state=0)
+    >>> model = PerspectiveClustering(3, random_state=0).fit(X)
+    >>> model.labels_.shape
+    (200,)
+    """
+
+    _parameter_constraints: dict = {
+        "n_clusters": [Interval(Integral, 1, None, closed="left")],
+        "models": [tuple, list],
+        "n_hypotheses": [Interval(Integral, 1, None, closed="left")],
+        "top": [Interval(Real, 0, 1, closed="right")],
+        "gaps": [tuple, list],
+        "window": [Interval(Integral, 3, None, closed="left")],
+        "n_neighbors": [Interval(Integral, 1, None, closed="left")],
+        "max_iter": [Interval(Integral, 0, None, closed="left")],
+        "n_init": [Interval(Integral, 1, None, closed="left")],
+        "random_state": ["random_state"],
+    }
+
+    def __init__(
+        self,
+        n_clusters=2,
+        *,
+        models=MODELS,
+        n_hypotheses=100,
+        top=0.05,
+        gaps=(1, 2, 4, 8),
+        window=4,
+        n_neighbors=10,
+        max_iter=30,
+        n_init=10,
+        random_state=None,
+    ):
+        self.n_clusters = n_clusters
+        self.models = models
+        self.n_hypotheses = n_hypotheses
+        self.top = top
+        self.gaps = gaps
+        self.window = window
+        self.n_neighbors = n_neighbors
+        self.max_iter = max_iter
+        self.n_init = n_init
+        self.random_state = random_state
+
+    def _check_params_vs_input(self, X):
+        n_samples, n_features = X.shape
+        unknown = [m for m in self.models if m not in MODELS]
+        if not self.models or unknown or len(set(self.models)) != len(self.models):
+            raise ValueError(
+                f"models must be a non-empty tuple of distinct names among "
+                f"{MODELS}, got {tuple(self.models)!r}."
+            )
+        if n_features % 2:
+            raise ValueError(
+                f"X must have 2 columns (x, y) per frame, got an odd number of "
+                f"features, {n_features}."
+            )
+        n_frames = n_features // 2
+        bad_gaps = [
+            g for g in self.gaps if not isinstance(g, Integral) or isinstance(g, bool)
+        ]
+        if not self.gaps or bad_gaps or min(self.gaps) < 1:
+            raise ValueError(
+                f"gaps must be a non-empty tuple of positive integers, got "
+                f"{tuple(self.gaps)!r}."
+            )
+        if self.n_clusters > n_samples:
+            raise ValueError(
+                f"n_clusters={self.n_clusters} must be at most n_samples={n_samples}."
+            )
+        n_seen = observed_frames(X).sum(axis=1)
+        unseen = np.flatnonzero(n_seen < 2)
+        if unseen.size:
+            raise ValueError(
+                f"Every track needs two observed frames (both coordinates "
+                f"finite) to show a motion; {describe_indices(unseen)} rows have "
+                f"fewer. Remove them."
+            )
+        if n_frames < 2:
+            raise ValueError(f"X must hold at least 2 frames, got {n_frames}.")
+
+    @_fit_context(prefer_skip_nested_validation=True)
+    def fit(self, X, y=None):
+        """Segment the tracks.
+
+        Parameters
+        ----------
+        X : array-like of shape (n_samples, 2 * n_frames)
+            Tracks ``[x_1, y_1, ..., x_F, y_F]``, NaN (or masked) where
+            missing; each track observed in at least two frames.
+        y : Ignored
+            Not used, present for API consistency.
+
+        Returns
+        -------
+        self : PerspectiveClustering
+            Fitted estimator.
+        """
+        X = validate_data(
+            self, masked_to_nan(X), dtype=np.float64, ensure_all_finite="allow-nan"
+        )
+        self._check_params_vs_input(X)
+        labels, votes, n_iter = perspective_clustering(
+            X,
+            self.n_clusters,
+            models=tuple(self.models),
+            n_hypotheses=self.n_hypotheses,
+            top=self.top,
+            gaps=tuple(self.gaps),
+            window=self.window,
+            n_neighbors=self.n_neighbors,
+            max_iter=self.max_iter,
+            n_init=self.n_init,
+            random_state=self.random_state,
+        )
+        silent = np.flatnonzero(np.diff(votes.indptr) == 0)
+        if silent.size:
+            warnings.warn(
+                f"{describe_indices(silent)} tracks are observed only where too "
+                "few tracks are co-visible to draw hypotheses; their labels carry "
+                "no evidence.",
+                UserWarning,
+                stacklevel=2,
+            )
+        self.labels_ = labels
+        self.n_hypotheses_ = votes.shape[1]
+        self.n_iter_ = n_iter
+        return self
+
+    def __sklearn_tags__(self):
+        tags = super().__sklearn_tags__()
+        tags.input_tags.allow_nan = True
+        return tags

@@ -1,0 +1,245 @@
+"""Smoothed K-subspaces in the full trajectory space, on observed entries.
+
+Alternates between fitting one linear subspace of ``R^{2F}`` to each cluster
+on its tracks' observed entries (:func:`fit_observed_subspace`) and giving
+every track the label that minimises
+
+``data_pk + smoothing * #{neighbours of p labelled otherwise}``
+
+where the data term (:func:`assignment_costs`) is the track's residual to
+subspace ``k`` per residual degree of freedom, on the coordinates it
+observes, relative to the typical misfit of the cluster (a Gaussian
+negative log-likelihood, scale-free) and weighted by the track's evidence
+(its number of residual degrees of freedom over the median). With complete
+tracks and ``per_cluster=False`` this is the library's smoothed K-subspaces
+(``_ksubspaces.refine_ksubspaces``) in ``R^{2F}`` with Euclidean
+residuals. A track with no residual degree of freedom in any subspace (too
+few observed coordinates) is labelled by its neighbours alone; a track that
+observes no coordinate of a subspace's support cannot take that label.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+
+from sklearn_gpca._observed_subspaces import (
+    fit_observed_subspace,
+    subspace_residuals,
+)
+
+_TINY = np.finfo(np.float64).tiny
+
+
+def neighbor_disagreements(labels, neighbors, n_clusters, weights=None):
+    """``D[p, k]``: weight of the neighbours of ``p`` whose label is not ``k``.
+
+    ``neighbors`` holds ``-1`` for no neighbour; ``weights`` (same shape, in
+    ``[0, 1]``) weighs each edge, None counts every neighbour once.
+    """
+    valid = neighbors >= 0
+    w = valid.astype(np.float64) if weights is None else np.where(valid, weights, 0.0)
+    neighbor_labels = np.where(valid, labels[np.maximum(neighbors, 0)], -1)
+    agree = np.einsum(
+        "pj,pjk->pk", w, neighbor_labels[:, :, None] == np.arange(n_clusters)
+    )
+    return w.sum(axis=1)[:, None] - agree
+
+
+def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=True):
+    """Scale-free data term of the smoothed assignment.
+
+    With ``rho_pk = r_pk / dof_pk`` the residual per degree of freedom,
+    ``s_k`` the median of ``rho`` over the tracks labelled ``k`` (its typical
+    misfit: noise, and the bend that perspective gives a deep scene), ``s_0``
+    the median over all tracks and ``m_p`` a track's largest number of
+    degrees of freedom, the cost of label ``k`` is
+
+    ``m_p (rho_pk / s_k + log(s_k / s_0)) / median(m)``
+
+    the negative log-likelihood of the track's residuals under Gaussian noise
+    of variance ``s_k`` per coordinate (up to terms shared by all labels),
+    per typical track. A loose motion (large ``s_k``) accepts large
+    residuals but pays ``log s_k`` for it, so a tight motion keeps the tracks
+    it fits well. ``per_cluster=False`` uses ``s_k = s_0`` for all: plain
+    K-subspaces with residuals relative to the typical misfit.
+
+    Parameters
+    ----------
+    residuals, dofs : ndarray of shape (n_samples, n_clusters)
+        From :func:`subspace_residuals`.
+    labels : ndarray of shape (n_samples,)
+        Current labels, which set ``s_k``; tracks labelled ``-1`` (outliers)
+        are left out of the scales.
+    n_clusters : int, default=None
+        Number of labels (``residuals.shape[1]``).
+    per_cluster : bool, default=True
+        One scale per cluster, or one for all.
+
+    Returns
+    -------
+    costs : ndarray of shape (n_samples, n_clusters)
+        ``inf`` where the track has no degree of freedom in a subspace but
+        some elsewhere; all zero for a track without any.
+    """
+    n_samples, n_clusters = residuals.shape
+    per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+    evidence = dofs.max(axis=1)
+    has = evidence > 0
+    own = per_dof[np.arange(n_samples), np.maximum(labels, 0)]
+    usable = has & np.isfinite(own) & (labels >= 0)
+    overall = float(np.median(own[usable])) if usable.any() else 1.0
+    overall = max(overall, _TINY)
+    scales = np.full(n_clusters, overall)
+    if per_cluster:
+        for k in range(n_clusters):
+            mine = own[usable & (labels == k)]
+            if mine.size >= 3:
+                scales[k] = max(float(np.median(mine)), _TINY)
+    weight = evidence / max(float(np.median(evidence[has])) if has.any() else 1.0, 1.0)
+    costs = np.zeros_like(per_dof)
+    costs[has] = weight[has, None] * (per_dof[has] / scales + np.log(scales / overall))
+    return costs
+
+
+def misfit_ratios(residuals, dofs, labels):
+    """Each track's smallest misfit to a motion, relative to the motion's own.
+
+    With ``rho_pk = r_pk / dof_pk`` the residual per degree of freedom of
+    track ``p`` to the subspace of motion ``k`` and ``s_k`` its median over
+    the tracks of ``k`` (``labels == k``; outliers ``-1`` left out), returns
+    ``min_k rho_pk / s_k``: a distribution-free statistic (the misfit of
+    real motions is not Gaussian: perspective bends long tracks more), ``0``
+    for a track without any residual degree of freedom (it cannot be
+    tested).
+
+    Parameters
+    ----------
+    residuals, dofs : ndarray of shape (n_samples, n_clusters)
+        From :func:`subspace_residuals`.
+    labels : ndarray of shape (n_samples,)
+        Motion of each track, ``-1`` for a track left out of the medians.
+
+    Returns
+    -------
+    ratios : ndarray of shape (n_samples,)
+    """
+    n_clusters = residuals.shape[1]
+    testable = dofs > 0
+    per_dof = np.where(testable, residuals / np.maximum(dofs, 1), np.nan)
+    pooled = per_dof[np.arange(labels.size), np.maximum(labels, 0)]
+    pooled = pooled[(labels >= 0) & np.isfinite(pooled)]
+    fallback = float(np.median(pooled)) if pooled.size else 1.0
+    scales = np.empty(n_clusters)
+    for k in range(n_clusters):
+        mine = per_dof[labels == k, k]
+        mine = mine[np.isfinite(mine)]
+        scales[k] = float(np.median(mine)) if mine.size >= 3 else fallback
+    ratios = np.where(testable, per_dof / np.maximum(scales, _TINY), np.inf)
+    ratios = ratios.min(axis=1)
+    ratios[~testable.any(axis=1)] = 0.0
+    return ratios
+
+
+def refine_observed(
+    X0,
+    mask,
+    labels,
+    n_clusters,
+    *,
+    neighbors,
+    smoothing=3.0,
+    subspace_dim=4,
+    neighbor_weights=None,
+    per_cluster=True,
+    max_iter=30,
+    outlier_threshold=None,
+    random_state,
+):
+    """Smoothed K-subspaces on observed entries, from initial labels.
+
+    Parameters
+    ----------
+    X0 : ndarray of shape (n_samples, n_features)
+        Tracks, zero where missing.
+    mask : ndarray of shape (n_samples, n_features), dtype=bool
+        Observed entries.
+    labels : ndarray of shape (n_samples,)
+        Initial labels in ``0 .. n_clusters - 1``.
+    n_clusters : int
+        Number of motions.
+    neighbors : ndarray of shape (n_samples, n_neighbors)
+        Neighbours of each track (``-1`` for none), e.g. from
+        :func:`sklearn_gpca._track_neighbors.track_neighbors`.
+    smoothing : float, default=3.0
+        Cost of one disagreeing neighbour, in units of the typical misfit of a
+        track to its own subspace.
+    neighbor_weights : ndarray of shape (n_samples, n_neighbors), default=None
+        Weight in ``[0, 1]`` of each neighbour in the smoothing term (e.g.
+        how alike the two tracks move); None weighs all 1.
+    subspace_dim : int or sequence of int, default=4
+        Dimension of every subspace, or one per cluster.
+    per_cluster : bool, default=True
+        One misfit scale per cluster in the data term (see
+        :func:`assignment_costs`).
+    max_iter : int, default=30
+        Maximum number of fit / assign rounds.
+    outlier_threshold : float > 0 or None, default=None
+        Tracks whose residual per degree of freedom to every motion exceeds
+        ``outlier_threshold`` times that motion's median
+        (:func:`misfit_ratios`) are labelled ``-1`` and left out of the
+        subspace fits and the scales of the next round. None labels every
+        track with a motion.
+    random_state : RandomState instance
+        Reseeds a cluster too small to fit its subspace.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+        ``-1`` for the outliers (only with ``outlier_threshold``).
+    bases : list of ndarray of shape (n_features, d_k)
+    supports : list of ndarray of shape (n_features,), dtype=bool
+    n_iter : int
+    converged : bool
+        Whether the labels settled (or alternated between two labellings).
+    """
+    labels = np.asarray(labels, dtype=np.intp).copy()
+    n_samples = X0.shape[0]
+    outliers = np.zeros(n_samples, dtype=bool)
+    dims = np.broadcast_to(np.asarray(subspace_dim, dtype=np.intp), (n_clusters,))
+    bases = [None] * n_clusters
+    supports = [None] * n_clusters
+    previous = None
+    converged = False
+    n_iter = 0
+    while n_iter < max_iter:
+        n_iter += 1
+        for k in range(n_clusters):
+            members = np.flatnonzero((labels == k) & ~outliers)
+            if members.size <= dims[k]:
+                members = random_state.choice(n_samples, dims[k] + 1, replace=False)
+            init = bases[k]
+            bases[k], supports[k] = fit_observed_subspace(
+                X0[members],
+                mask[members],
+                int(dims[k]),
+                init=init,
+                max_iter=5 if init is not None else 30,
+            )
+        residuals, dofs = subspace_residuals(X0, mask, bases, supports)
+        marked = np.where(outliers, -1, labels)
+        costs = assignment_costs(residuals, dofs, marked, per_cluster=per_cluster)
+        if smoothing > 0:
+            costs = costs + smoothing * neighbor_disagreements(
+                labels, neighbors, n_clusters, neighbor_weights
+            )
+        new_labels = np.argmin(costs, axis=1).astype(np.intp)
+        new_outliers = outliers
+        if outlier_threshold is not None:
+            new_outliers = misfit_ratios(residuals, dofs, marked) > outlier_threshold
+        if np.array_equal(new_outliers, outliers) and (
+            np.array_equal(new_labels, labels) or np.array_equal(new_labels, previous)
+        ):
+            converged = True
+            break
+        previous, labels, outliers = labels, new_labels, new_outliers
+    return np.where(outliers, -1, labels), bases, supports, n_iter, converged

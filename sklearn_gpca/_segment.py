@@ -1,0 +1,361 @@
+"""Motion segmentation of raw trajectories in the full trajectory space.
+
+:func:`segment_motions` takes tracks as a tracker gives them -- any number of
+frames, NaN where a track is not seen, tracks born and lost along the
+sequence -- and returns one motion label per track. Beyond the paper
+(issues 16 and 17):
+
+1. candidate segmentations from two complementary routes:
+
+   - *fragments*: tracks over-segmented by how alike neighbours move
+     (:mod:`sklearn_gpca._motion_graph`), fragments merged into motions by
+     subspace linkage (:mod:`sklearn_gpca._fragments`);
+   - *gpca*: the library's default ``PowerFactorization`` + ``GPCAClustering``
+     on the tracks it can project (at least 6 observed coordinates);
+
+2. each candidate refined by smoothed K-subspaces in ``R^{2F}`` on the
+   observed entries (:mod:`sklearn_gpca._refine_observed`), which also labels
+   the tracks too short to carry evidence from their neighbours;
+3. the refined candidate with the shortest coding length kept
+   (:mod:`sklearn_gpca._segment_selection`);
+4. optionally, tracks that fit no motion labelled ``-1``.
+
+:class:`sklearn_gpca.MotionSegmentation` is the estimator around it.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import warnings
+from numbers import Integral, Real
+
+import numpy as np
+from sklearn.utils import Bunch, check_random_state
+from sklearn.utils._param_validation import Interval, StrOptions, validate_params
+
+from sklearn_gpca._fragments import (
+    absorb_small_fragments,
+    merge_fragments,
+    over_segment,
+)
+from sklearn_gpca._hypotheses import local_noise_level
+from sklearn_gpca._missing import describe_indices
+from sklearn_gpca._motion_graph import edge_weights, motion_affinity
+from sklearn_gpca._observed_subspaces import (
+    fit_observed_subspace,
+    observed_entries,
+    subspace_residuals,
+)
+from sklearn_gpca._refine_observed import refine_observed
+from sklearn_gpca._segment_selection import coding_length
+from sklearn_gpca._track_neighbors import track_neighbors
+
+#: Fragments smaller than this join a neighbouring fragment before merging.
+MIN_FRAGMENT_SIZE = 12
+#: Neighbours of the motion graph (the refinement uses ``n_neighbors``).
+GRAPH_NEIGHBORS = 20
+#: Tracks per fragment aimed at by the over-segmentation (at least 4 per motion).
+TRACKS_PER_FRAGMENT = 40
+#: Fewest observed coordinates of a track projected by the gpca route.
+MIN_PROJECTED_ENTRIES = 6
+
+
+def _check_tracks(X, n_motions):
+    if isinstance(X, np.ma.MaskedArray):
+        X = X.astype(np.float64).filled(np.nan)
+    X = np.asarray(X, dtype=np.float64)
+    if X.ndim != 2:
+        raise ValueError(f"X must be 2-D (tracks x 2 frames), got shape {X.shape}.")
+    n_samples, n_features = X.shape
+    if n_features < 2 or n_features % 2:
+        raise ValueError(
+            "X must hold [x_1, y_1, ..., x_F, y_F] per row: an even number of "
+            f"columns >= 2, got {n_features}."
+        )
+    if np.isinf(X).any():
+        raise ValueError("X contains infinite values; use NaN for missing entries.")
+    empty = np.flatnonzero(np.isnan(X).all(axis=1))
+    if empty.size:
+        raise ValueError(
+            f"Tracks {describe_indices(empty)} have no observed entry; remove them."
+        )
+    if n_motions > n_samples:
+        raise ValueError(
+            f"n_motions={n_motions} is larger than the number of tracks ({n_samples})."
+        )
+    return X
+
+
+def _nearest_labels(X0, mask, labels, known, n_motions):
+    """Labels of all tracks from those of ``known`` tracks: nearest subspace."""
+    fits = []
+    for k in range(n_motions):
+        members = np.flatnonzero(known & (labels == k))
+        if members.size == 0:
+            members = np.flatnonzero(known)
+        fits.append(fit_observed_subspace(X0[members], mask[members], 4))
+    residuals, dofs = subspace_residuals(
+        X0, mask, [b for b, _ in fits], [s for _, s in fits]
+    )
+    per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+    out = np.argmin(per_dof, axis=1).astype(np.intp)
+    out[known] = labels[known]
+    return out
+
+
+def fragment_candidate(X0, mask, affinity, n_motions, noise, *, random_state):
+    """Labels from the fragments route (see :mod:`sklearn_gpca._fragments`)."""
+    n_samples = X0.shape[0]
+    n_fragments = max(4 * n_motions, n_samples // TRACKS_PER_FRAGMENT)
+    n_fragments = min(n_fragments, n_samples - 1)
+    fragments = over_segment(affinity, n_fragments, random_state=random_state)
+    fragments = absorb_small_fragments(affinity, fragments, MIN_FRAGMENT_SIZE)
+    if fragments.max() + 1 <= n_motions:
+        return fragments
+    return merge_fragments(X0, mask, fragments, n_motions, noise)
+
+
+def projectable(mask):
+    """Tracks and coordinates that ``PowerFactorization`` can take.
+
+    Tracks observing at least ``MIN_PROJECTED_ENTRIES`` coordinates, on the
+    coordinates then seen by at least 5 of them.
+
+    Returns
+    -------
+    rows : ndarray of shape (n_tracks,), dtype=bool
+    cols : ndarray of shape (n_features,), dtype=bool
+    """
+    rows = np.count_nonzero(mask, axis=1) >= MIN_PROJECTED_ENTRIES
+    cols = np.count_nonzero(mask[rows], axis=0) >= 5
+    rows &= np.count_nonzero(mask[:, cols], axis=1) >= MIN_PROJECTED_ENTRIES
+    return rows, cols
+
+
+def gpca_candidate(X, X0, mask, n_motions, *, random_state):
+    """Labels from ``PowerFactorization`` + ``GPCAClustering`` (library defaults).
+
+    Tracks observing fewer than ``MIN_PROJECTED_ENTRIES`` coordinates, and
+    frames then seen by fewer than 5 tracks, are left out of the projection;
+    the left-out tracks take the nearest subspace of the clusters. Returns
+    None when too little is left to project.
+    """
+    from sklearn_gpca._gpca import GPCAClustering
+    from sklearn_gpca._power_factorization import PowerFactorization
+
+    rows, cols = projectable(mask)
+    if rows.sum() < max(10, 2 * n_motions) or cols.sum() < 6:
+        return None
+    seed = random_state.randint(np.iinfo(np.int32).max)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            Z = PowerFactorization(random_state=seed).fit_transform(
+                X[np.ix_(rows, cols)]
+            )
+            labels = GPCAClustering(n_motions, random_state=seed).fit_predict(Z)
+        except ValueError:
+            return None
+    full = np.zeros(X.shape[0], dtype=np.intp)
+    full[rows] = labels
+    if rows.all():
+        return full
+    return _nearest_labels(X0, mask, full, rows, n_motions)
+
+
+@validate_params(
+    {
+        "X": ["array-like"],
+        "n_motions": [Interval(Integral, 1, None, closed="left")],
+        "init": [StrOptions({"auto", "fragments", "gpca"}), "array-like"],
+        "subspace_dim": [Interval(Integral, 1, None, closed="left")],
+        "smoothing": [Interval(Real, 0, None, closed="left")],
+        "n_neighbors": [Interval(Integral, 1, None, closed="left")],
+        "per_cluster": ["boolean"],
+        "max_iter": [Interval(Integral, 1, None, closed="left")],
+        "outlier_threshold": [Interval(Real, 0, None, closed="neither"), None],
+        "random_state": ["random_state"],
+        "return_info": ["boolean"],
+    },
+    prefer_skip_nested_validation=True,
+)
+def segment_motions(
+    X,
+    n_motions,
+    *,
+    init="auto",
+    subspace_dim=4,
+    smoothing=3.0,
+    n_neighbors=10,
+    per_cluster=True,
+    max_iter=30,
+    outlier_threshold=None,
+    random_state=None,
+    return_info=False,
+):
+    """Segment tracks with missing entries into rigid motions.
+
+    Parameters
+    ----------
+    X : array-like of shape (n_tracks, 2 * n_frames)
+        Trajectories ``[x_1, y_1, ..., x_F, y_F]``, NaN (or masked) where a
+        track is not seen. Any number of frames; every track needs at least
+        one observed entry. The result does not depend on the units (the
+        tracks are scaled by the RMS of the observed entries).
+    n_motions : int
+        Number of motions.
+    init : {"auto", "fragments", "gpca"} or array-like of shape (n_tracks,)
+        Candidate segmentations: ``"auto"`` both routes (see module doc),
+        each refined, the shortest coding length kept; ``"fragments"`` or
+        ``"gpca"`` one route; an array of labels ``0 .. n_motions - 1`` is
+        refined as it is.
+    subspace_dim : int, default=4
+        Dimension of the motion subspaces of the refinement (4 for a rigid
+        motion seen by an affine camera).
+    smoothing : float, default=3.0
+        Cost of one neighbour with another label, in units of the typical
+        misfit of a track, weighted by how alike the two tracks move (the
+        motion affinity, in ``(0, 1]``; see
+        :func:`sklearn_gpca._refine_observed.refine_observed`).
+    n_neighbors : int, default=10
+        Neighbours of the smoothing term (nearest tracks on co-observed
+        frames).
+    per_cluster : bool, default=True
+        One misfit scale per motion in the refinement.
+    max_iter : int, default=30
+        Maximum rounds of the refinement.
+    outlier_threshold : float > 0 or None, default=None
+        Label ``-1`` (the noise label of DBSCAN and HDBSCAN) the tracks
+        whose residual per degree of freedom to *every* motion's subspace
+        exceeds ``outlier_threshold`` times the median of that motion's own
+        tracks; they are left out of the subspace fits. None labels every
+        track with a motion. The statistic is distribution-free (real
+        misfits are not Gaussian: a perspective camera bends long tracks
+        more than short ones); 20 flagged only outliers on
+        ``make_tracks(scene="handheld")`` draws started from the true
+        labels (see ``benchmarks/results/segment_tracks.md`` for the
+        measured precision and recall). Tracks too short to leave a residual
+        degree of freedom (two frames or fewer for 4-D subspaces) cannot be
+        tested and keep a motion label; an outlier that slides from one
+        motion to another (a tracker's drift) often fits one of them well
+        enough to stay undetected.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the spectral clustering, k-means and the projections.
+    return_info : bool, default=False
+        Also return a Bunch with the candidates, their refined labels and
+        coding lengths, and the estimated noise.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_tracks,), dtype=intp
+        Motion of each track, in ``0 .. n_motions - 1``; ``-1`` for the
+        outliers (only with ``outlier_threshold``).
+    info : Bunch
+        Only with ``return_info``: ``candidates`` (names), ``initial`` and
+        ``refined`` (lists of label arrays), ``n_iters`` (rounds of each
+        refinement), ``coding_lengths`` (bits),
+        ``chosen`` (index), ``noise`` (variance per coordinate, in the
+        units of the scaled tracks) and ``scale`` (the RMS used).
+
+    Examples
+    --------
+    >>> from sklearn_gpca.datasets import make_motions
+    >>> from sklearn_gpca.metrics import misclassification_rate
+    >>> from sklearn_gpca import segment_motions
+    >>> X, y = make_motions(3, n_points=[150, 40, 40], n_frames=12,
+    ...                     missing=0.3, missing_pattern="occlusion",
+    ...                     random_state=0)
+    >>> labels = segment_motions(X, 3, random_state=0)
+    >>> misclassification_rate(y, labels) < 0.05
+    True
+    """
+    X = _check_tracks(X, n_motions)
+    random_state = check_random_state(random_state)
+    n_samples = X.shape[0]
+    X0, mask = observed_entries(X)
+    scale = float(np.sqrt(np.mean(X0[mask] ** 2)))
+    scale = scale if scale > 0 else 1.0
+    X0 = X0 / scale
+    if n_samples <= n_motions or (n_motions == 1 and outlier_threshold is None):
+        labels = np.arange(n_samples, dtype=np.intp) % n_motions
+        if return_info:
+            return labels, Bunch(candidates=[], chosen=-1, n_iters=[], scale=scale)
+        return labels
+
+    n_search = min(max(GRAPH_NEIGHBORS, n_neighbors), n_samples - 1)
+    neighbors = track_neighbors(X0, mask, n_search)
+    noise = local_noise_level(X0, mask, neighbors, random_state=random_state)
+
+    affinity = motion_affinity(X0, mask, neighbors)
+    n_local = min(n_neighbors, n_search)
+    weights = edge_weights(affinity, neighbors[:, :n_local])
+
+    names, initial = [], []
+    if n_motions == 1:
+        names.append("one motion")
+        initial.append(np.zeros(n_samples, dtype=np.intp))
+    elif isinstance(init, str):
+        if init in ("auto", "gpca"):
+            labels = gpca_candidate(X, X0, mask, n_motions, random_state=random_state)
+            if labels is not None:
+                names.append("gpca")
+                initial.append(labels)
+        if init in ("auto", "fragments") or not initial:
+            names.append("fragments")
+            initial.append(
+                fragment_candidate(
+                    X0, mask, affinity, n_motions, noise, random_state=random_state
+                )
+            )
+    else:
+        labels = np.asarray(init)
+        if (
+            labels.shape != (n_samples,)
+            or not np.isin(labels, np.arange(n_motions)).all()
+        ):
+            raise ValueError(
+                f"init must hold one label in 0 .. {n_motions - 1} per track "
+                f"({n_samples}), got shape {labels.shape}."
+            )
+        names.append("given")
+        initial.append(labels.astype(np.intp))
+
+    refined, n_iters = [], []
+    for start in initial:
+        labels, _, _, n_iter, _ = refine_observed(
+            X0,
+            mask,
+            start,
+            n_motions,
+            neighbors=neighbors[:, :n_local],
+            neighbor_weights=weights,
+            smoothing=smoothing,
+            subspace_dim=subspace_dim,
+            per_cluster=per_cluster,
+            max_iter=max_iter,
+            outlier_threshold=outlier_threshold,
+            random_state=random_state,
+        )
+        refined.append(labels)
+        n_iters.append(n_iter)
+    # candidates are compared on the tracks none of them calls an outlier
+    common = np.logical_and.reduce([labels >= 0 for labels in refined])
+    lengths = np.array(
+        [
+            coding_length(X0[common], labels[common], noise, mask[common])
+            for labels in refined
+        ]
+    )
+    chosen = int(np.argmin(lengths))
+    labels = refined[chosen]
+    if return_info:
+        return labels, Bunch(
+            candidates=names,
+            initial=initial,
+            refined=refined,
+            n_iters=n_iters,
+            coding_lengths=lengths,
+            chosen=chosen,
+            noise=noise,
+            scale=scale,
+        )
+    return labels
