@@ -4,9 +4,6 @@ Applies each change to the library in turn, runs the test files that cover
 it, prints which tests fail, and restores the file (also on error).
 
     OMP_NUM_THREADS=1 python benchmarks/check_issue14_mutations.py
-
-The change to ``paper_pipeline`` (the library defaults instead of the
-paper's settings) is checked by the test of its settings, not here.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -56,13 +53,24 @@ CHANGES = [
         "tests/test_plotting.py sklearn_gpca/plotting",
     ),
     (
-        "PowerFactorization._choose_rank ignores completion_rank",
-        "sklearn_gpca/_power_factorization.py",
+        "PowerFactorization's completion rank ignores completion_rank",
+        "sklearn_gpca/_factorization.py",
         '"""Completion rank and the held-out errors that chose it."""\n',
         '"""Completion rank and the held-out errors that chose it."""\n'
-        "        return self.n_components, {}\n",
+        "    return n_components, {}\n",
         "tests/test_completion_rank.py tests/test_power_factorization.py "
         "tests/test_varpro.py sklearn_gpca/_power_factorization.py",
+    ),
+    (
+        "paper_pipeline returns the library defaults",
+        "sklearn_gpca/_pipeline.py",
+        "    return make_pipeline(\n",
+        "    return make_pipeline(\n"
+        "        PowerFactorization(random_state=random_state),\n"
+        "        GPCAClustering(n_clusters, random_state=random_state),\n"
+        "    )\n"
+        "    return make_pipeline(\n",
+        "tests/test_pipeline.py tests/test_composition.py sklearn_gpca/_pipeline.py",
     ),
 ]
 

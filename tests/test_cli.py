@@ -5,12 +5,13 @@
 import re
 import subprocess
 import sys
+import time
 
 import numpy as np
 import pytest
 import scipy.io
 
-from sklearn_gpca._cli import UsageError, main, read_trajectories
+from sklearn_gpca._cli import UsageError, build_parser, main, read_trajectories
 from sklearn_gpca.datasets import make_motions
 from sklearn_gpca.metrics import misclassification_rate
 
@@ -669,6 +670,8 @@ def test_library_check_of_the_input_is_a_usage_error(tmp_path, capsys, motions):
     assert main(["segment", str(path), "--n-motions", "2"]) == 2
     lines = capsys.readouterr().err.strip().splitlines()
     assert len(lines) == 1
+    # reported against the file
+    assert lines[0].startswith(f"python -m sklearn_gpca segment: error: {path}: ")
     assert "n_components=5 must be at most n_samples=4" in lines[0]
 
 
@@ -734,3 +737,342 @@ def test_sizes_count_empty_motions_and_outliers(tmp_path, capsys, monkeypatch):
     rows = summary(capsys.readouterr().out)
     assert rows["sizes"] == "12 0 5 (+ 3 outliers, label -1)"
     np.testing.assert_array_equal(np.loadtxt(out, dtype=int), labels)
+
+
+# --- behaviour pinned by the mutation run (benchmarks/results/mutation.md) --
+
+
+def test_installed_script_names_itself(tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(sys, "argv", ["/usr/local/bin/sklearn-gpca", "segment"])
+    assert main(["segment", str(tmp_path / "absent.npz"), "--n-motions", "2"]) == 2
+    err = capsys.readouterr().err
+    assert (
+        err == f"sklearn-gpca segment: error: {tmp_path / 'absent.npz'}: no such file\n"
+    )
+    assert build_parser().prog == "sklearn-gpca"
+    monkeypatch.setattr(sys, "argv", ["/somewhere/sklearn_gpca/__main__.py"])
+    assert build_parser().prog == "python -m sklearn_gpca"
+    assert build_parser("gpca").prog == "gpca"
+
+
+def test_checks_of_scikit_learn_count_as_input_errors():
+    from sklearn.utils import check_array
+
+    from sklearn_gpca._cli import _raised_by_a_check
+
+    with pytest.raises(ValueError) as sklearn_check:
+        check_array(np.zeros((0, 3)))
+    assert _raised_by_a_check(sklearn_check.value)
+    with pytest.raises(ValueError) as numpy_failure:
+        np.ones(2) + np.ones(3)
+    assert not _raised_by_a_check(numpy_failure.value)
+
+
+def elapsed_and_output(capsys, argv):
+    start = time.perf_counter()
+    assert main(argv) == 0
+    elapsed = time.perf_counter() - start
+    return elapsed, capsys.readouterr().out
+
+
+def reported_seconds(rows):
+    match = re.fullmatch(r"(\d+\.\d{3}) s", rows["time"])
+    assert match, rows["time"]
+    return float(match.group(1))
+
+
+def test_demo_reports_the_draw_it_was_asked_for(capsys, monkeypatch):
+    """Every option reaches the draw and the pipeline: the printed error is
+    the one of that draw, and it is far from zero, so that a different draw
+    or a default pipeline would print another number."""
+    import sklearn.pipeline
+    from sklearn.pipeline import make_pipeline
+
+    from sklearn_gpca import GPCAClustering, PowerFactorization
+
+    built = []
+
+    def spy_make_pipeline(*steps):
+        built.append(make_pipeline(*steps))
+        return built[-1]
+
+    monkeypatch.setattr(sklearn.pipeline, "make_pipeline", spy_make_pipeline)
+    argv = ["demo", "--n-motions", "3", "--n-points", "20", "--n-frames", "5"]
+    argv += ["--noise", "5", "--missing", "0.3", "--missing-pattern", "occlusion"]
+    argv += ["--random-state", "3"]
+    elapsed, out = elapsed_and_output(capsys, argv)
+    X, y = make_motions(
+        3,
+        n_points=[20, 20, 20],
+        n_frames=5,
+        noise=5.0,
+        missing=0.3,
+        missing_pattern="occlusion",
+        random_state=3,
+    )
+    (pipeline,) = built
+    params = pipeline.get_params()
+    assert params["powerfactorization__random_state"] == 3
+    assert params["gpcaclustering__random_state"] == 3
+    assert params["gpcaclustering__n_clusters"] == 3
+    labels = make_pipeline(
+        PowerFactorization(random_state=3), GPCAClustering(3, random_state=3)
+    ).fit_predict(X)
+    error = misclassification_rate(y, labels)
+    assert error > 0.05  # 5 px of noise on 5 frames: a hard draw
+    assert out.splitlines()[:3] == [
+        "Segmenting synthetic rigid motions under an affine camera",
+        "  make_pipeline(PowerFactorization(), GPCAClustering(n_clusters=3))",
+        "",
+    ]
+    rows = summary(out)
+    assert rows == {
+        "trajectories": "60",
+        "frames": "5",
+        "motions": "3",
+        "noise": "5 px",
+        "missing entries": f"{100 * np.isnan(X).mean():.1f} % (occlusion)",
+        "misclassified": f"{100 * error:.2f} %",
+        "time": rows["time"],
+    }
+    assert reported_seconds(rows) <= elapsed + 5e-4
+
+
+def test_segment_builds_and_prints_the_pipeline_of_its_options(
+    tmp_path, capsys, monkeypatch
+):
+    import sklearn_gpca._cli as cli
+
+    X, y = make_motions(2, n_points=[30, 30], n_frames=6, missing=0.1, random_state=2)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    out = tmp_path / "labels.txt"
+    fitted = []
+    real_fit = cli._fit
+
+    def spy_fit(*args, **kwargs):
+        pipeline, labels = real_fit(*args, **kwargs)
+        fitted.append(pipeline)
+        return pipeline, labels
+
+    monkeypatch.setattr(cli, "_fit", spy_fit)
+    argv = ["segment", str(path), "--n-motions", "2", "--rank", "4", "--seed", "3"]
+    elapsed, text = elapsed_and_output(capsys, [*argv, "--output", str(out)])
+    (pipeline,) = fitted
+    params = pipeline.get_params()
+    assert params["powerfactorization__n_components"] == 4
+    assert params["powerfactorization__random_state"] == 3
+    assert params["gpcaclustering__n_clusters"] == 2
+    assert params["gpcaclustering__random_state"] == 3
+    assert text.splitlines()[:3] == [
+        f"Segmenting {path}",
+        "  make_pipeline(PowerFactorization(n_components=4), "
+        "GPCAClustering(n_clusters=2))",
+        "",
+    ]
+    expected = reference_labels(X, 2, rank=4, seed=3)
+    np.testing.assert_array_equal(np.loadtxt(out, dtype=int), expected)
+    rows = summary(text)
+    assert list(rows) == [
+        "trajectories",
+        "frames",
+        "missing entries",
+        "motions",
+        "sizes",
+        "misclassified",
+        "time",
+        "labels",
+    ]
+    assert rows["missing entries"] == f"{100 * np.isnan(X).mean():.1f} %"
+    assert rows["labels"] == str(out)
+    assert reported_seconds(rows) <= elapsed + 5e-4
+    # without --output (and a file without labels): no labels row
+    write_npz(path, X)
+    rows = summary(elapsed_and_output(capsys, argv)[1])
+    assert list(rows) == [
+        "trajectories",
+        "frames",
+        "missing entries",
+        "motions",
+        "sizes",
+        "time",
+    ]
+
+
+def test_rank_may_reach_twice_the_frames(tmp_path, capsys):
+    X, y = make_motions(2, n_points=[30, 30], n_frames=3, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    assert main(["segment", str(path), "--n-motions", "2", "--rank", "6"]) == 0
+    capsys.readouterr()
+    assert main(["segment", str(path), "--n-motions", "2", "--rank", "7"]) == 2
+    assert capsys.readouterr().err == (
+        "python -m sklearn_gpca segment: error: "
+        f"--rank 7 exceeds 2 * frames = 6 for {path}\n"
+    )
+
+
+@pytest.mark.parametrize("option", ["--output", "--plot"])
+def test_destinations_are_named_in_their_errors(tmp_path, capsys, option):
+    X, y = make_motions(2, n_points=[10, 10], n_frames=4, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    prefix = "python -m sklearn_gpca segment: error: "
+    folder = tmp_path / "folder"
+    folder.mkdir()
+    existing = tmp_path / "existing.png"
+    existing.write_text("precious\n")
+    for target, problem in [
+        (folder, "is a directory"),
+        (existing, "exists; add --force to overwrite it"),
+    ]:
+        argv = ["segment", str(path), "--n-motions", "2", option, str(target)]
+        assert main(argv) == 2
+        assert capsys.readouterr().err == f"{prefix}{option} {target} {problem}\n"
+
+
+def test_output_and_plot_on_one_file_are_refused(tmp_path, capsys):
+    X, y = make_motions(2, n_points=[10, 10], n_frames=4, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    same = str(tmp_path / "out.png")
+    argv = ["segment", str(path), "--n-motions", "2", "--output", same, "--plot", same]
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    assert captured.err == (
+        "python -m sklearn_gpca segment: error: --output and --plot name the same "
+        "file\n"
+    )
+    assert captured.out == ""
+
+
+def test_plot_marks_errors_against_the_file_labels(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("matplotlib")
+    from sklearn_gpca.plotting import TrajectoryDisplay
+
+    X, y = make_motions(2, n_points=[20, 20], n_frames=5, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    calls = []
+    real = TrajectoryDisplay.from_predictions
+
+    def spy(*args, **kwargs):
+        calls.append(kwargs)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(TrajectoryDisplay, "from_predictions", spy)
+    plot = tmp_path / "tracks.png"
+    argv = ["segment", str(path), "--n-motions", "2", "--plot", str(plot)]
+    rows = summary(elapsed_and_output(capsys, argv)[1])
+    (kwargs,) = calls
+    np.testing.assert_array_equal(kwargs["y_true"], y)
+    assert rows["plot"] == str(plot)
+    assert "labels" not in rows
+
+
+def test_plot_errors_get_one_line(tmp_path, capsys, monkeypatch):
+    pytest.importorskip("matplotlib")
+    X, y = make_motions(2, n_points=[20, 20], n_frames=5, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    bad = tmp_path / "tracks.xyz"
+    assert main(["segment", str(path), "--n-motions", "2", "--plot", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(
+        f"python -m sklearn_gpca segment: error: cannot write {bad}: "
+    )
+    assert "xyz" in err[len("python -m sklearn_gpca segment: error: cannot write") :]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["tracks.npz"]
+    monkeypatch.setitem(sys.modules, "matplotlib", None)
+    plot = tmp_path / "tracks.png"
+    assert main(["segment", str(path), "--n-motions", "2", "--plot", str(plot)]) == 2
+    assert capsys.readouterr().err == (
+        "python -m sklearn_gpca segment: error: --plot requires matplotlib: "
+        "pip install 'sklearn_gpca[plot]'\n"
+    )
+
+
+def test_auto_prints_the_coding_length_of_each_count(tmp_path, capsys):
+    from sklearn.pipeline import make_pipeline
+
+    from sklearn_gpca import GPCAClustering, PowerFactorization
+
+    X, y = make_motions(3, n_points=[30, 30, 30], n_frames=6, random_state=0)
+    path = write_npz(tmp_path / "three.npz", X, y)
+    argv = ["segment", str(path), "--n-motions", "auto"]
+    rows = summary(elapsed_and_output(capsys, argv)[1])
+    reference = make_pipeline(
+        PowerFactorization(5, random_state=0),
+        GPCAClustering("auto", max_clusters=5, random_state=0),
+    ).fit(X)[-1]
+    bits = reference.n_clusters_costs_
+    chosen = ", ".join(f"{n}: {b:.0f}" for n, b in enumerate(bits, 1) if np.isfinite(b))
+    assert rows["motions"] == (
+        f"{reference.n_clusters_} (auto, coding length in bits: {chosen})"
+    )
+
+
+def test_sizes_count_trailing_empty_motions(tmp_path, capsys, monkeypatch):
+    import sklearn_gpca._cli as cli
+
+    X, y = make_motions(2, n_points=[10, 10], n_frames=4, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    real_fit = cli._fit
+    labels = np.r_[np.zeros(12, dtype=int), np.ones(8, dtype=int)]
+
+    def fit_with_empty_third(*args, **kwargs):
+        pipeline, _ = real_fit(*args, **kwargs)
+        pipeline[-1].n_clusters_ = 3
+        return pipeline, labels
+
+    monkeypatch.setattr(cli, "_fit", fit_with_empty_third)
+    argv = ["segment", str(path), "--n-motions", "2", "--rank", "4"]
+    assert summary(elapsed_and_output(capsys, argv)[1])["sizes"] == "12 8 0"
+
+
+def test_parser_defaults_and_choices(capsys):
+    parser = build_parser("prog")
+    demo = parser.parse_args(["demo"])
+    # three motions, a fifth of the entries occluded (docs/command_line.rst)
+    assert (demo.n_motions, demo.missing, demo.missing_pattern) == (3, 0.2, "occlusion")
+    assert (demo.n_points, demo.n_frames, demo.noise, demo.random_state) == (
+        100,
+        10,
+        1.0,
+        0,
+    )
+    segment = parser.parse_args(["segment", "f.npz", "--n-motions", "2"])
+    assert (segment.rank, segment.seed, segment.force) == (5, 0, False)
+    assert (segment.output, segment.plot) == (None, None)
+    given = parser.parse_args(
+        ["demo", "--noise", "0", "--missing", "0", "--random-state", "7"]
+    )
+    assert (given.noise, given.missing, given.random_state) == (0.0, 0.0, 7)
+    smallest = parser.parse_args(["demo", "--n-points", "1", "--n-frames", "3"])
+    assert (smallest.n_points, smallest.n_frames) == (1, 3)
+    for pattern in ["random", "occlusion"]:
+        args = parser.parse_args(["demo", "--missing-pattern", pattern])
+        assert args.missing_pattern == pattern
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        ([], "the following arguments are required: command"),
+        (["demo", "--missing-pattern", "bursts"], "invalid choice: 'bursts'"),
+        (["demo", "--noise", "loud"], "--noise: must be a number, got 'loud'"),
+        (["demo", "--n-points", "1.5"], "--n-points: must be an integer, got '1.5'"),
+    ],
+)
+def test_more_bad_arguments_get_one_line(capsys, argv, message):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1
+    assert message in lines[0], lines[0]
+
+
+def test_main_reads_sys_argv_by_default(tmp_path, capsys, monkeypatch):
+    absent = tmp_path / "absent.npz"
+    argv = ["/usr/bin/sklearn-gpca", "segment", str(absent), "--n-motions", "2"]
+    monkeypatch.setattr(sys, "argv", argv)
+    assert main() == 2
+    assert (
+        capsys.readouterr().err
+        == f"sklearn-gpca segment: error: {absent}: no such file\n"
+    )
