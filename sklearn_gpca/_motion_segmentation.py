@@ -2,7 +2,7 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
-from numbers import Integral, Real
+from numbers import Real
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClusterMixin, _fit_context
@@ -11,6 +11,7 @@ from sklearn.utils.validation import validate_data
 
 from sklearn_gpca._missing import masked_to_nan
 from sklearn_gpca._segment import segment_motions
+from sklearn_gpca._validation import Count
 
 
 class MotionSegmentation(ClusterMixin, BaseEstimator):
@@ -98,13 +99,13 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     """
 
     _parameter_constraints: dict = {
-        "n_clusters": [Interval(Integral, 1, None, closed="left")],
+        "n_clusters": [Count(1, None, closed="left")],
         "init": [StrOptions({"auto", "fragments", "gpca"})],
-        "subspace_dim": [Interval(Integral, 1, None, closed="left")],
+        "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
-        "n_neighbors": [Interval(Integral, 1, None, closed="left")],
+        "n_neighbors": [Count(1, None, closed="left")],
         "per_cluster": ["boolean"],
-        "max_iter": [Interval(Integral, 1, None, closed="left")],
+        "max_iter": [Count(1, None, closed="left")],
         "outlier_threshold": [Interval(Real, 0, None, closed="neither"), None],
         "random_state": ["random_state"],
     }

@@ -26,7 +26,7 @@ sequence -- and returns one motion label per track. Beyond the paper
 # SPDX-License-Identifier: BSD-3-Clause
 
 import warnings
-from numbers import Integral, Real
+from numbers import Real
 
 import numpy as np
 from sklearn.utils import Bunch, check_random_state
@@ -48,6 +48,7 @@ from sklearn_gpca._observed_subspaces import (
 from sklearn_gpca._refine_observed import refine_observed
 from sklearn_gpca._segment_selection import coding_length
 from sklearn_gpca._track_neighbors import track_neighbors
+from sklearn_gpca._validation import Count
 
 #: Fragments smaller than this join a neighbouring fragment before merging.
 MIN_FRAGMENT_SIZE = 12
@@ -165,13 +166,13 @@ def gpca_candidate(X, X0, mask, n_motions, *, random_state):
 @validate_params(
     {
         "X": ["array-like"],
-        "n_motions": [Interval(Integral, 1, None, closed="left")],
+        "n_motions": [Count(1, None, closed="left")],
         "init": [StrOptions({"auto", "fragments", "gpca"}), "array-like"],
-        "subspace_dim": [Interval(Integral, 1, None, closed="left")],
+        "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
-        "n_neighbors": [Interval(Integral, 1, None, closed="left")],
+        "n_neighbors": [Count(1, None, closed="left")],
         "per_cluster": ["boolean"],
-        "max_iter": [Interval(Integral, 1, None, closed="left")],
+        "max_iter": [Count(1, None, closed="left")],
         "outlier_threshold": [Interval(Real, 0, None, closed="neither"), None],
         "random_state": ["random_state"],
         "return_info": ["boolean"],
