@@ -1,27 +1,16 @@
-"""Subspace hypotheses from small sets of co-visible tracks, and their preferences.
+"""Subspace hypotheses from small sets of co-visible tracks.
 
 Beyond the paper (issues 16 and 17): a hypothesis is the ``d``-dimensional
 linear subspace of ``R^{2F}`` spanned by a track and its nearest tracks, on the
 coordinates all of them observe. Every track is scored against every
 hypothesis on its own observed entries within the hypothesis's support
-(residual per residual degree of freedom), keeps the ``h`` hypotheses it fits
-best as its *preferences*, and two tracks are alike when they share
-preferences: the ordered-residual kernel of Chin, Wang & Suter (CVPR 2009),
-``K = Phi Phi^T`` with ``Phi`` the sparse ``P x H`` preference indicator,
-never formed. Seeds are drawn in two rounds, the second with probability
-inversely proportional to a track's degree in the first round's kernel, so
-that a dominant motion (a background holding most tracks) does not take most
-of the hypotheses. Cost: ``O(P H D d^2)`` time for the residuals (linear in
-``P`` for a bounded number ``H`` of hypotheses), ``O(P h)`` memory for the
-kernel.
+(residual per residual degree of freedom). Cost: ``O(P H D d^2)`` time for the
+residuals, linear in ``P`` for a bounded number ``H`` of hypotheses.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-import scipy.sparse as sp
-from scipy.sparse.linalg import svds
-from sklearn.cluster import KMeans
 
 from sklearn_gpca._chunks import row_chunks
 
@@ -172,112 +161,3 @@ def hypothesis_residuals(X0, mask, bases, supports):
         residuals[rows] = np.maximum(norms - fitted, 0.0)
     dofs = np.maximum(counts - ranks[None, :], 0)
     return residuals, dofs
-
-
-def preference_matrix(residuals, dofs, n_preferences, *, min_dof=1):
-    """Sparse indicator of each track's best-fitting hypotheses.
-
-    Hypotheses are ranked per track by residual per degree of freedom; those
-    where the track has fewer than ``min_dof`` residual degrees of freedom
-    are not candidates. Returns a CSR matrix of shape ``(n_samples,
-    n_hypotheses)`` with at most ``n_preferences`` ones per row.
-    """
-    n_samples, n_hyp = residuals.shape
-    per_dof = np.where(dofs >= min_dof, residuals / np.maximum(dofs, 1), np.inf)
-    h = min(n_preferences, n_hyp)
-    top = np.argpartition(per_dof, h - 1, axis=1)[:, :h]
-    keep = np.isfinite(np.take_along_axis(per_dof, top, axis=1))
-    rows = np.repeat(np.arange(n_samples), h)[keep.ravel()]
-    return sp.csr_matrix(
-        (np.ones(rows.size), (rows, top.ravel()[keep.ravel()])),
-        shape=(n_samples, n_hyp),
-    )
-
-
-def kernel_degrees(features):
-    """Degrees ``K 1`` of the kernel ``K = F F^T`` (self-similarity excluded)."""
-    features = sp.csr_matrix(features)
-    total = features @ np.asarray(features.sum(axis=0)).ravel()
-    own = np.asarray(features.multiply(features).sum(axis=1)).ravel()
-    return total - own
-
-
-def spectral_labels(features, n_clusters, *, n_init=10, random_state):
-    """Ng-Jordan-Weiss spectral clustering of ``K = F F^T`` through ``F``.
-
-    The leading eigenvectors of ``D^{-1/2} K D^{-1/2}`` are the leading left
-    singular vectors of ``D^{-1/2} F``; rows with zero degree get label 0.
-    """
-    features = sp.csr_matrix(features, dtype=np.float64)
-    n_samples = features.shape[0]
-    degrees = features @ np.asarray(features.sum(axis=0)).ravel()
-    scaled = sp.diags(1.0 / np.sqrt(np.maximum(degrees, _TINY))) @ features
-    k = min(n_clusters, min(scaled.shape) - 1)
-    if min(scaled.shape) <= 200 or k < 1:
-        left = np.linalg.svd(scaled.toarray(), full_matrices=False)[0][:, :n_clusters]
-    else:
-        v0 = random_state.uniform(-1, 1, min(scaled.shape))
-        left, values, _ = svds(scaled, k=k, v0=v0)
-        left = left[:, np.argsort(values)[::-1]]
-    left[degrees <= 0] = 0.0
-    norms = np.linalg.norm(left, axis=1, keepdims=True)
-    embedding = left / np.maximum(norms, _TINY)
-    if n_clusters == 1:
-        return np.zeros(n_samples, dtype=np.intp)
-    kmeans = KMeans(n_clusters, n_init=n_init, random_state=random_state)
-    return kmeans.fit_predict(embedding).astype(np.intp)
-
-
-def preference_segmentation(
-    X0,
-    mask,
-    neighbors,
-    n_clusters,
-    *,
-    n_hypotheses=300,
-    hypothesis_dim=4,
-    hypothesis_size=6,
-    preference_fraction=0.1,
-    random_state,
-):
-    """Spectral clustering of the ordered-residual kernel of local hypotheses.
-
-    ``n_hypotheses // 2`` seeds are drawn uniformly, the other half with
-    probability inversely proportional to the first round's kernel degree.
-    Each track keeps ``preference_fraction * n_hypotheses`` preferences.
-
-    Returns
-    -------
-    labels : ndarray of shape (n_samples,), dtype=intp
-    preferences : scipy.sparse.csr_matrix of shape (n_samples, n_hypotheses)
-    """
-    n_samples = X0.shape[0]
-    min_support = min(2 * (hypothesis_dim + 2), X0.shape[1])
-    first = max(n_hypotheses // 2, 1)
-
-    def scored(seeds):
-        bases, supports, _ = local_hypotheses(
-            X0,
-            mask,
-            neighbors,
-            seeds,
-            hypothesis_dim,
-            hypothesis_size,
-            min_support=min_support,
-        )
-        return hypothesis_residuals(X0, mask, bases, supports)
-
-    residuals, dofs = scored(random_state.choice(n_samples, first))
-    n_pref = max(round(preference_fraction * first), 2)
-    degrees = kernel_degrees(preference_matrix(residuals, dofs, n_pref))
-    weights = 1.0 / np.maximum(degrees, 1.0)
-    seeds = random_state.choice(
-        n_samples, n_hypotheses - first, p=weights / weights.sum()
-    )
-    more_residuals, more_dofs = scored(seeds)
-    residuals = np.hstack([residuals, more_residuals])
-    dofs = np.hstack([dofs, more_dofs])
-    n_pref = max(round(preference_fraction * n_hypotheses), 2)
-    preferences = preference_matrix(residuals, dofs, n_pref)
-    labels = spectral_labels(preferences, n_clusters, random_state=random_state)
-    return labels, preferences

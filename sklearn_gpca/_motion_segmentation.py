@@ -2,7 +2,7 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
-from numbers import Integral, Real
+from numbers import Real
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClusterMixin, _fit_context
@@ -11,6 +11,7 @@ from sklearn.utils.validation import validate_data
 
 from sklearn_gpca._missing import masked_to_nan
 from sklearn_gpca._segment import segment_motions
+from sklearn_gpca._validation import Count
 
 
 class MotionSegmentation(ClusterMixin, BaseEstimator):
@@ -19,9 +20,10 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     The estimator of :func:`segment_motions`: full-space segmentation of
     trajectories as a tracker gives them (NaN where a track is not seen),
     beyond the paper's projection to ``R^5``. Candidate segmentations from
-    motion-affinity fragments, from ``PowerFactorization`` +
-    ``GPCAClustering`` and from votes for local perspective and subspace
-    hypotheses (:class:`PerspectiveClustering`) are refined by smoothed
+    motion-affinity fragments and from ``PowerFactorization`` +
+    ``GPCAClustering`` (and, with ``init="votes"``, from votes for local
+    perspective and subspace hypotheses, as :class:`PerspectiveClustering`)
+    are refined by smoothed
     K-subspaces on each track's observed entries in ``R^{2F}``, and the
     shortest coding length is kept;
     optionally, tracks that fit no motion are labelled ``-1``. See
@@ -100,13 +102,13 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     """
 
     _parameter_constraints: dict = {
-        "n_clusters": [Interval(Integral, 1, None, closed="left")],
+        "n_clusters": [Count(1, None, closed="left")],
         "init": [StrOptions({"auto", "fragments", "gpca", "votes"})],
-        "subspace_dim": [Interval(Integral, 1, None, closed="left")],
+        "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
-        "n_neighbors": [Interval(Integral, 1, None, closed="left")],
+        "n_neighbors": [Count(1, None, closed="left")],
         "per_cluster": ["boolean"],
-        "max_iter": [Interval(Integral, 1, None, closed="left")],
+        "max_iter": [Count(1, None, closed="left")],
         "outlier_threshold": [Interval(Real, 0, None, closed="neither"), None],
         "random_state": ["random_state"],
     }

@@ -16,6 +16,7 @@ from sklearn.utils.validation import validate_data
 
 from sklearn_gpca._missing import describe_indices, masked_to_nan
 from sklearn_gpca._spectral import embedding_kmeans
+from sklearn_gpca._validation import Count
 from sklearn_gpca._view_hypotheses import observed_frames, preference_votes
 
 _TINY = np.finfo(np.float64).tiny
@@ -308,15 +309,15 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
     """
 
     _parameter_constraints: dict = {
-        "n_clusters": [Interval(Integral, 1, None, closed="left")],
+        "n_clusters": [Count(1, None, closed="left")],
         "models": [tuple, list],
-        "n_hypotheses": [Interval(Integral, 1, None, closed="left")],
+        "n_hypotheses": [Count(1, None, closed="left")],
         "top": [Interval(Real, 0, 1, closed="right")],
         "gaps": [tuple, list],
-        "window": [Interval(Integral, 3, None, closed="left")],
-        "n_neighbors": [Interval(Integral, 1, None, closed="left")],
-        "max_iter": [Interval(Integral, 0, None, closed="left")],
-        "n_init": [Interval(Integral, 1, None, closed="left")],
+        "window": [Count(3, None, closed="left")],
+        "n_neighbors": [Count(1, None, closed="left")],
+        "max_iter": [Count(0, None, closed="left")],
+        "n_init": [Count(1, None, closed="left")],
         "random_state": ["random_state"],
     }
 

@@ -5,7 +5,8 @@ frames, NaN where a track is not seen, tracks born and lost along the
 sequence -- and returns one motion label per track. Beyond the paper
 (issues 16 and 17):
 
-1. candidate segmentations from three complementary routes:
+1. candidate segmentations from two complementary routes (a third, *votes*,
+   on request):
 
    - *fragments*: tracks over-segmented by how alike neighbours move
      (:mod:`sklearn_gpca._motion_graph`), fragments merged into motions by
@@ -30,7 +31,7 @@ sequence -- and returns one motion label per track. Beyond the paper
 # SPDX-License-Identifier: BSD-3-Clause
 
 import warnings
-from numbers import Integral, Real
+from numbers import Real
 
 import numpy as np
 from sklearn.utils import Bunch, check_random_state
@@ -52,6 +53,7 @@ from sklearn_gpca._observed_subspaces import (
 from sklearn_gpca._refine_observed import refine_observed
 from sklearn_gpca._segment_selection import coding_length
 from sklearn_gpca._track_neighbors import track_neighbors
+from sklearn_gpca._validation import Count
 
 #: Fragments smaller than this join a neighbouring fragment before merging.
 MIN_FRAGMENT_SIZE = 12
@@ -202,13 +204,13 @@ def votes_candidate(X, X0, mask, n_motions, models, *, random_state):
 @validate_params(
     {
         "X": ["array-like"],
-        "n_motions": [Interval(Integral, 1, None, closed="left")],
+        "n_motions": [Count(1, None, closed="left")],
         "init": [StrOptions({"auto", "fragments", "gpca", "votes"}), "array-like"],
-        "subspace_dim": [Interval(Integral, 1, None, closed="left")],
+        "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
-        "n_neighbors": [Interval(Integral, 1, None, closed="left")],
+        "n_neighbors": [Count(1, None, closed="left")],
         "per_cluster": ["boolean"],
-        "max_iter": [Interval(Integral, 1, None, closed="left")],
+        "max_iter": [Count(1, None, closed="left")],
         "outlier_threshold": [Interval(Real, 0, None, closed="neither"), None],
         "random_state": ["random_state"],
         "return_info": ["boolean"],
@@ -242,10 +244,13 @@ def segment_motions(
         Number of motions.
     init : {"auto", "fragments", "gpca", "votes"} or array-like of \
             shape (n_tracks,)
-        Candidate segmentations: ``"auto"`` the three routes (see module
-        doc), each refined, the shortest coding length kept; ``"fragments"``,
-        ``"gpca"`` or ``"votes"`` one route; an array of labels
-        ``0 .. n_motions - 1`` is refined as it is.
+        Candidate segmentations: ``"auto"`` the fragments and gpca routes
+        (see module doc), each refined, the shortest coding length kept;
+        ``"fragments"``, ``"gpca"`` or ``"votes"`` one route; an array of
+        labels ``0 .. n_motions - 1`` is refined as it is. ``"votes"`` is not
+        in ``"auto"``: on tracker-like draws it helps (``segment_tracks.md``),
+        but the coding length picks it on 3-motion Hopkins155 sequences
+        where it is worse (all 155: 2.40 % with it, 1.82 % without).
     subspace_dim : int, default=4
         Dimension of the motion subspaces of the refinement (4 for a rigid
         motion seen by an affine camera).
@@ -303,7 +308,7 @@ def segment_motions(
     ...                     missing=0.3, missing_pattern="occlusion",
     ...                     random_state=0)
     >>> labels = segment_motions(X, 3, random_state=0)
-    >>> misclassification_rate(y, labels) < 0.1
+    >>> misclassification_rate(y, labels) < 0.05
     True
     """
     X = _check_tracks(X, n_motions)
@@ -344,7 +349,7 @@ def segment_motions(
                     X0, mask, affinity, n_motions, noise, random_state=random_state
                 )
             )
-        if init in ("auto", "votes"):
+        if init == "votes":
             labels = votes_candidate(
                 X, X0, mask, n_motions, VOTE_MODELS, random_state=random_state
             )

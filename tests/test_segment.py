@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 from sklearn.neighbors import NearestNeighbors
 
-from sklearn_gpca import MotionSegmentation
+from sklearn_gpca import MotionSegmentation, PerspectiveClustering
 from sklearn_gpca._fragments import absorb_small_fragments, merge_fragments
 from sklearn_gpca._hypotheses import (
     hypothesis_residuals,
@@ -359,3 +359,21 @@ def test_segment_motions_votes_candidate_segments_tracks():
     assert set(labels) <= {0, 1, 2}
     assert misclassification_rate(y, info.initial[0]) < 0.05
     assert misclassification_rate(y, labels) < 0.03
+
+
+@pytest.mark.parametrize(
+    "fit",
+    [
+        lambda X: MotionSegmentation(n_clusters=True).fit(X),
+        lambda X: MotionSegmentation(2, max_iter=True).fit(X),
+        lambda X: segment_motions(X, True),
+        lambda X: PerspectiveClustering(n_clusters=True).fit(X),
+    ],
+    ids=["MotionSegmentation", "max_iter", "segment_motions", "PerspectiveClustering"],
+)
+def test_boolean_counts_are_refused_not_read_as_one(fit):
+    """``True`` is an int to Python: taken as one motion, it would label every
+    track 0 without a word."""
+    X, _ = make_motions(2, n_points=[30, 30], n_frames=6, random_state=0)
+    with pytest.raises(ValueError, match=r"must be an int in the range.*Got True"):
+        fit(X)
