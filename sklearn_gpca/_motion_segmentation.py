@@ -21,8 +21,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     trajectories as a tracker gives them (NaN where a track is not seen),
     beyond the paper's projection to ``R^5``. Candidate segmentations from
     motion-affinity fragments and from ``PowerFactorization`` +
-    ``GPCAClustering`` are refined by smoothed K-subspaces on each track's
-    observed entries in ``R^{2F}``, and the shortest coding length is kept;
+    ``GPCAClustering`` (and, with ``init="votes"``, from votes for local
+    perspective and subspace hypotheses, as :class:`PerspectiveClustering`)
+    are refined by smoothed
+    K-subspaces on each track's observed entries in ``R^{2F}``, and the
+    shortest coding length is kept;
     optionally, tracks that fit no motion are labelled ``-1``. See
     :func:`segment_motions` for the stages and every parameter.
 
@@ -31,7 +34,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     n_clusters : int, default=2
         Number of motions.
 
-    init : {"auto", "fragments", "gpca"}, default="auto"
+    init : {"auto", "fragments", "gpca", "votes"}, default="auto"
         Candidate segmentations (see :func:`segment_motions`).
 
     subspace_dim : int, default=4
@@ -100,7 +103,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
 
     _parameter_constraints: dict = {
         "n_clusters": [Count(1, None, closed="left")],
-        "init": [StrOptions({"auto", "fragments", "gpca"})],
+        "init": [StrOptions({"auto", "fragments", "gpca", "votes"})],
         "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
         "n_neighbors": [Count(1, None, closed="left")],

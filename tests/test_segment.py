@@ -26,7 +26,7 @@ from sklearn_gpca._refine_observed import misfit_ratios, refine_observed
 from sklearn_gpca._segment import segment_motions
 from sklearn_gpca._segment_selection import coding_length
 from sklearn_gpca._track_neighbors import track_neighbors
-from sklearn_gpca.datasets import make_motions
+from sklearn_gpca.datasets import make_motions, make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
 
@@ -348,6 +348,17 @@ def test_estimator_matches_function_on_nan_and_masked():
 def test_estimator_bad_input(X, params, match):
     with pytest.raises(ValueError, match=match):
         MotionSegmentation(**{"n_clusters": 2, **params}).fit(X)
+
+
+def test_segment_motions_votes_candidate_segments_tracks():
+    # a clean tracker-like draw: the votes of perspective_clustering, refined
+    X, y = make_tracks(3, scene="lab", n_tracks=200, n_frames=20, random_state=0)
+    X[:5, 2:] = np.nan  # tracks seen in one frame cast no vote
+    labels, info = segment_motions(X, 3, init="votes", random_state=0, return_info=True)
+    assert info.candidates == ["votes"]
+    assert set(labels) <= {0, 1, 2}
+    assert misclassification_rate(y, info.initial[0]) < 0.05
+    assert misclassification_rate(y, labels) < 0.03
 
 
 @pytest.mark.parametrize(
