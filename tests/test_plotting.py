@@ -824,3 +824,14 @@ def test_trajectory_display_equal_aspect_on_own_and_shared_axes(motions):
     # shared limits cannot adapt: the box does (matplotlib refuses datalim)
     assert [ax.get_adjustable() for ax in axes] == ["box", "box"]
     fig.canvas.draw()
+
+
+def test_trajectory_display_reads_masked_entries_as_missing():
+    X, y_true, _ = _two_groups_with_errors()
+    masked = np.ma.masked_invalid(X)
+    masked.data[masked.mask] = 1e6  # what lies under the mask must not be drawn
+    drawn = TrajectoryDisplay(masked, y_true).plot()
+    expected = TrajectoryDisplay(X, y_true).plot()
+    for got, want in zip(drawn.lines_, expected.lines_, strict=True):
+        for a, b in zip(got.get_segments(), want.get_segments(), strict=True):
+            assert_allclose(a, b)
