@@ -192,7 +192,7 @@ def write(rows, out, repeats=REPEATS):
         "| nearest true hyperplane R^5 error % "
         "| dense kernel s | dense kernel peak GB | dense kernel error % "
         "| sklearn dense s | sklearn peak GB | sklearn error % | sklearn / ours |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|" + "---|" * 18,
     ]
     for row in rows:
         sk = row.get("sklearn_dense")
