@@ -24,8 +24,9 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     ``GPCAClustering`` (and, with ``init="votes"``, from votes for local
     perspective and subspace hypotheses, as :class:`PerspectiveClustering`)
     are refined by smoothed
-    K-subspaces on each track's observed entries in ``R^{2F}``, and the
-    shortest coding length is kept;
+    K-subspaces on each track's observed entries in ``R^{2F}``, and one is
+    kept by ``selection`` (the shortest coding length, or the shortest among
+    the candidates leaving the fewest tracks ambiguous between two motions);
     optionally, tracks that fit no motion are labelled ``-1``. See
     :func:`segment_motions` for the stages and every parameter.
 
