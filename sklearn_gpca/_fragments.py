@@ -20,15 +20,12 @@ subspace judges the smaller one fairly.
 
 import numpy as np
 import scipy.sparse as sp
-from sklearn.cluster import KMeans
 
 from sklearn_gpca._observed_subspaces import (
     fit_adaptive_subspace,
     subspace_residuals,
 )
-from sklearn_gpca._spectral import leading_eigenvectors
-
-_TINY = np.finfo(np.float64).tiny
+from sklearn_gpca._spectral import embedding_kmeans, leading_eigenvectors
 
 
 def over_segment(affinity, n_fragments, *, random_state):
@@ -39,10 +36,7 @@ def over_segment(affinity, n_fragments, *, random_state):
     n_samples = affinity.shape[0]
     n_fragments = min(n_fragments, n_samples - 1)
     vectors = leading_eigenvectors(affinity, n_fragments, random_state)
-    norms = np.linalg.norm(vectors, axis=1, keepdims=True)
-    embedding = vectors / np.maximum(norms, _TINY)
-    kmeans = KMeans(n_fragments, n_init=3, random_state=random_state)
-    return kmeans.fit_predict(embedding).astype(np.intp)
+    return embedding_kmeans(vectors, n_fragments, n_init=3, random_state=random_state)
 
 
 def _between(affinity, labels, n_labels):
