@@ -19,8 +19,8 @@ subspace judges the smaller one fairly.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-import scipy.sparse as sp
 
+from sklearn_gpca._affinity import _between_cluster_weights
 from sklearn_gpca._observed_subspaces import (
     fit_adaptive_subspace,
     subspace_residuals,
@@ -39,15 +39,6 @@ def over_segment(affinity, n_fragments, *, random_state):
     return embedding_kmeans(vectors, n_fragments, n_init=3, random_state=random_state)
 
 
-def _between(affinity, labels, n_labels):
-    n_samples = labels.shape[0]
-    indicator = sp.csr_matrix(
-        (np.ones(n_samples), (np.arange(n_samples), labels)),
-        shape=(n_samples, n_labels),
-    )
-    return (indicator.T @ affinity @ indicator).toarray()
-
-
 def absorb_small_fragments(affinity, fragments, min_size):
     """Join every fragment of fewer than ``min_size`` tracks to its best neighbour.
 
@@ -62,7 +53,7 @@ def absorb_small_fragments(affinity, fragments, min_size):
         small = np.flatnonzero(sizes < min_size)
         if small.size == 0 or sizes.size <= 1:
             return fragments
-        weights = _between(affinity, fragments, sizes.size)
+        weights = _between_cluster_weights(affinity, fragments, sizes.size)
         np.fill_diagonal(weights, 0.0)
         g = small[np.argmin(sizes[small])]
         if weights[g].sum() > 0:
