@@ -145,11 +145,16 @@ def merge_fragments(X0, mask, fragments, n_clusters, noise, *, max_dim=8, min_do
         per_dof[:, a] = _residuals_per_dof(X0, mask, fit(members[a]), min_dof)
         misfit[a] = _group_medians(per_dof[:, a], group_of, n_groups) / noise
     alive = np.ones(n_groups, dtype=bool)
+    # each unordered pair once, in row-major order
+    first, second = np.triu_indices(n_groups, k=1)
     for _ in range(n_groups - n_clusters):
-        # the smaller of the two directions; each unordered pair once
-        linkage = np.minimum(misfit, misfit.T)
-        linkage[~np.triu(np.outer(alive, alive), k=1)] = np.nan
-        a, b = np.unravel_index(np.nanargmin(linkage), linkage.shape)
+        pairs = np.flatnonzero(alive[first] & alive[second])
+        # the smaller of the two directions
+        linkage = np.minimum(
+            misfit[first[pairs], second[pairs]], misfit[second[pairs], first[pairs]]
+        )
+        best = pairs[np.argmin(linkage)]
+        a, b = first[best], second[best]
         members[a] = np.concatenate([members[a], members[b]])
         group_of[members[b]] = a
         alive[b] = False

@@ -106,6 +106,22 @@ def test_merge_fragments_takes_any_fragment_labels():
     assert_array_equal(np.unique(labels), [0, 1, 2])
 
 
+@pytest.mark.parametrize("n_clusters", [1, 2, 5])
+def test_merge_fragments_without_evidence_still_merges_to_n_clusters(n_clusters):
+    """With 4 coordinates no track has ``min_dof`` residual degrees of
+    freedom: every linkage is inf, and the merges still go down to
+    ``n_clusters`` (a tie must not pair a fragment with itself)."""
+    rng = np.random.RandomState(0)
+    X0 = rng.standard_normal((70, 4))
+    fragments = np.repeat(np.arange(7), 10)
+    labels = merge_fragments(
+        X0, np.ones_like(X0, dtype=bool), fragments, n_clusters, 1.0
+    )
+    assert_array_equal(np.unique(labels), np.arange(n_clusters))
+    # fragments are merged whole
+    assert all(np.unique(labels[fragments == g]).size == 1 for g in range(7))
+
+
 @settings(max_examples=50, deadline=None)
 @given(
     values=st.lists(
