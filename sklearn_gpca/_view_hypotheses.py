@@ -119,8 +119,9 @@ def _subspace_residuals(tracks, samples):
     bases = np.linalg.qr(np.swapaxes(tracks[samples], 1, 2))[0]
     n_hyp, n_coords, _ = bases.shape
     distances = np.empty((tracks.shape[0], n_hyp))
-    # the n_hyp x n_coords residuals of a chunk of tracks fit in working_memory
-    for rows in row_chunks(tracks.shape[0], chunk_rows(2 * 8 * n_hyp * n_coords)):
+    # the three n_hyp x n_coords temporaries of a chunk of tracks (the fit, the
+    # residual, its square in the norm) fit in working_memory
+    for rows in row_chunks(tracks.shape[0], chunk_rows(3 * 8 * n_hyp * n_coords)):
         part = tracks[rows]
         coords = np.einsum("pd,hdk->phk", part, bases)
         # The residual itself, not ||x||^2 - ||Q^T x||^2, which loses half the
