@@ -53,9 +53,10 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     max_iter : int, default=30
         Maximum rounds of the refinement.
 
-    outlier_threshold : float > 0 or None, default=None
-        Label ``-1`` the tracks whose misfit to every motion exceeds this
-        many times the motion's median misfit; None labels every track.
+    outlier_threshold : float in (0, 1) or None, default=None
+        Label ``-1`` the tracks that fit no motion, at this false-alarm
+        probability per track (e.g. ``1e-3``; see
+        :func:`~sklearn_gpca.segment_motions`); None labels every track.
 
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
@@ -109,7 +110,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         "n_neighbors": [Count(1, None, closed="left")],
         "per_cluster": ["boolean"],
         "max_iter": [Count(1, None, closed="left")],
-        "outlier_threshold": [Interval(Real, 0, None, closed="neither"), None],
+        "outlier_threshold": [Interval(Real, 0, 1, closed="neither"), None],
         "random_state": ["random_state"],
     }
 

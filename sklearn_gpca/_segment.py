@@ -211,7 +211,7 @@ def votes_candidate(X, X0, mask, n_motions, models, *, random_state):
         "n_neighbors": [Count(1, None, closed="left")],
         "per_cluster": ["boolean"],
         "max_iter": [Count(1, None, closed="left")],
-        "outlier_threshold": [Interval(Real, 0, None, closed="neither"), None],
+        "outlier_threshold": [Interval(Real, 0, 1, closed="neither"), None],
         "random_state": ["random_state"],
         "return_info": ["boolean"],
     },
@@ -266,21 +266,24 @@ def segment_motions(
         One misfit scale per motion in the refinement.
     max_iter : int, default=30
         Maximum rounds of the refinement.
-    outlier_threshold : float > 0 or None, default=None
-        Label ``-1`` (the noise label of DBSCAN and HDBSCAN) the tracks
-        whose residual per degree of freedom to *every* motion's subspace
-        exceeds ``outlier_threshold`` times the median of that motion's own
-        tracks; they are left out of the subspace fits. None labels every
-        track with a motion. The statistic is distribution-free (real
-        misfits are not Gaussian: a perspective camera bends long tracks
-        more than short ones); 20 flagged only outliers on
-        ``make_tracks(scene="handheld")`` draws started from the true
-        labels (see ``benchmarks/results/segment_tracks.md`` for the
-        measured precision and recall). Tracks too short to leave a residual
-        degree of freedom (two frames or fewer for 4-D subspaces) cannot be
-        tested and keep a motion label; an outlier that slides from one
-        motion to another (a tracker's drift) often fits one of them well
-        enough to stay undetected.
+    outlier_threshold : float in (0, 1) or None, default=None
+        Label ``-1`` (the noise label of DBSCAN and HDBSCAN) the tracks that
+        fit no motion: the probability of flagging a track whose residuals
+        are Gaussian noise at its motion's level (a false-alarm rate per
+        track; e.g. ``1e-3``). The test
+        (:func:`sklearn_gpca._outliers.outlier_pvalues`) compares each
+        track's residual to every motion on windows of 16 frames with the
+        chi-square law of its degrees of freedom, the noise of each motion
+        estimated robustly from its tracks, so a random walk fails
+        everywhere and a tracker's drift or jump from one motion to another
+        fails on the windows around its switch. The flagged tracks are left
+        out of the subspace fits and the refinement is run again. None
+        labels every track with a motion. Tracks seen in 2 frames or fewer
+        cannot be tested and keep a motion label; a drift between two
+        motions that move alike is not seen; under strong perspective (a
+        forward-moving camera) the nearest background points misfit more
+        than the noise and some are flagged
+        (``benchmarks/results/outliers.md`` gives precision and recall).
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
     return_info : bool, default=False
