@@ -8,7 +8,7 @@ Vidal & Hartley (CVPR 2004).
 
 import numpy as np
 
-from sklearn_gpca._least_squares import fit_rows, fits_exactly
+from sklearn_gpca._least_squares import fit_rows, fits_exactly, masked_residual
 
 
 def squared_residual(X0, mask, B, A, total):
@@ -21,8 +21,7 @@ def squared_residual(X0, mask, B, A, total):
     """
     if mask is None:
         return max(total - np.einsum("ij,ij->", A, A), 0.0)
-    residual = X0 - B @ A.T
-    residual *= mask
+    residual = masked_residual(X0, mask, B, A)
     return np.einsum("ij,ij->", residual, residual)
 
 

@@ -15,7 +15,7 @@ import numpy as np
 
 from sklearn_gpca._affinity import sign_invariant_neighbors
 from sklearn_gpca._ksubspaces import smoothed_assignment
-from sklearn_gpca._subspaces import sine_residuals
+from sklearn_gpca._subspaces import own_residuals
 
 
 def _outside(n_points, sample):
@@ -150,7 +150,7 @@ def extend_labels(unit, sample, sample_labels, neighbors, bases, *, smoothing):
     others = _outside(n_points, sample)
     labels = np.empty(n_points, dtype=np.intp)
     labels[sample] = sample_labels
-    own = sine_residuals(unit[sample], bases)[np.arange(sample.size), sample_labels]
+    own = own_residuals(unit[sample], sample_labels, bases)
     neighbor_labels = labels[neighbors[others]] if smoothing > 0 else None
     labels[others] = smoothed_assignment(
         unit[others], bases, np.median(own), neighbor_labels, smoothing

@@ -19,7 +19,7 @@ from sklearn.utils.extmath import svd_flip
 
 from sklearn_gpca._als import ALS
 from sklearn_gpca._completion_rank import max_completion_rank, select_completion_rank
-from sklearn_gpca._least_squares import fit_rows
+from sklearn_gpca._least_squares import fit_rows, masked_residual
 from sklearn_gpca._mask_graph import determinable, n_connected_blocks
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._multistart import best_of_starts
@@ -150,9 +150,7 @@ def project(X, components, singular_values):
             rows = supported == k
             Z[rows, :k] = fit_rows(X0[rows], mask[rows], basis[:k])
         n_observed = mask.sum()
-    residual = X0 - Z @ basis
-    if mask is not None:
-        residual *= mask
+    residual = masked_residual(X0, mask, Z, basis.T)
     with np.errstate(invalid="ignore", divide="ignore"):
         rms = unit * np.sqrt(np.einsum("ij,ij->", residual, residual) / n_observed)
     return Z, float(rms)

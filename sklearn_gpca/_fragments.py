@@ -19,37 +19,13 @@ subspace judges the smaller one fairly.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-import scipy.sparse as sp
-from sklearn.cluster import KMeans
 
+from sklearn_gpca._affinity import _between_cluster_weights
 from sklearn_gpca._observed_subspaces import (
     fit_adaptive_subspace,
     subspace_residuals,
 )
-from sklearn_gpca._spectral import leading_eigenvectors
-
-_TINY = np.finfo(np.float64).tiny
-
-
-# Up to this many tracks the spectral embedding uses a dense eigensolver
-# (faster than Lanczos for the many eigenvectors of an over-segmentation).
-_DENSE_EIGEN = 3000
-
-
-def _leading_eigenvectors(affinity, n_components, random_state):
-    """Leading eigenvectors of ``D^{-1/2} A D^{-1/2}``, dense when small."""
-    n_samples = affinity.shape[0]
-    if n_samples > _DENSE_EIGEN:
-        return leading_eigenvectors(affinity, n_components, random_state)
-    degrees = np.asarray(affinity.sum(axis=1)).ravel()
-    inv_sqrt = 1.0 / np.sqrt(np.maximum(degrees, _TINY))
-    normalized = (
-        affinity.multiply(inv_sqrt[:, None]).multiply(inv_sqrt[None, :])
-    ).toarray()
-    _, vectors = np.linalg.eigh(normalized)
-    vectors = vectors[:, ::-1][:, :n_components]
-    vectors[degrees <= 0] = 0.0
-    return vectors
+from sklearn_gpca._spectral import embedding_kmeans, leading_eigenvectors
 
 
 def over_segment(affinity, n_fragments, *, random_state):
@@ -59,20 +35,8 @@ def over_segment(affinity, n_fragments, *, random_state):
     """
     n_samples = affinity.shape[0]
     n_fragments = min(n_fragments, n_samples - 1)
-    vectors = _leading_eigenvectors(affinity, n_fragments, random_state)
-    norms = np.linalg.norm(vectors, axis=1, keepdims=True)
-    embedding = vectors / np.maximum(norms, _TINY)
-    kmeans = KMeans(n_fragments, n_init=3, random_state=random_state)
-    return kmeans.fit_predict(embedding).astype(np.intp)
-
-
-def _between(affinity, labels, n_labels):
-    n_samples = labels.shape[0]
-    indicator = sp.csr_matrix(
-        (np.ones(n_samples), (np.arange(n_samples), labels)),
-        shape=(n_samples, n_labels),
-    )
-    return (indicator.T @ affinity @ indicator).toarray()
+    vectors = leading_eigenvectors(affinity, n_fragments, random_state)
+    return embedding_kmeans(vectors, n_fragments, n_init=3, random_state=random_state)
 
 
 def absorb_small_fragments(affinity, fragments, min_size):
@@ -89,7 +53,7 @@ def absorb_small_fragments(affinity, fragments, min_size):
         small = np.flatnonzero(sizes < min_size)
         if small.size == 0 or sizes.size <= 1:
             return fragments
-        weights = _between(affinity, fragments, sizes.size)
+        weights = _between_cluster_weights(affinity, fragments, sizes.size)
         np.fill_diagonal(weights, 0.0)
         g = small[np.argmin(sizes[small])]
         if weights[g].sum() > 0:
@@ -101,6 +65,37 @@ def absorb_small_fragments(affinity, fragments, min_size):
         fragments = fragments.astype(np.intp)
 
 
+def _group_medians(values, groups, n_groups):
+    """Median of the finite ``values`` of each group; inf for a group with none.
+
+    The same numbers as ``np.median`` of each group's finite values (the
+    mean of the two middle ones for an even count), from one sort.
+    """
+    finite = np.isfinite(values)
+    values, groups = values[finite], groups[finite]
+    values = values[np.lexsort((values, groups))]
+    counts = np.bincount(groups, minlength=n_groups)
+    found = counts > 0
+    starts = (np.cumsum(counts) - counts)[found]
+    low = values[starts + (counts[found] - 1) // 2]
+    high = values[starts + counts[found] // 2]
+    medians = np.full(n_groups, np.inf)
+    medians[found] = np.where(counts[found] % 2, low, (low + high) / 2)
+    return medians
+
+
+def _residuals_per_dof(X0, mask, fit, min_dof):
+    """Residual per degree of freedom of every track to one subspace.
+
+    NaN for a track with fewer than ``min_dof`` residual degrees of freedom.
+    """
+    residuals, dofs = subspace_residuals(X0, mask, [fit[0]], [fit[1]])
+    usable = dofs[:, 0] >= min_dof
+    per_dof = np.full(X0.shape[0], np.nan)
+    per_dof[usable] = residuals[usable, 0] / dofs[usable, 0]
+    return per_dof
+
+
 def merge_fragments(X0, mask, fragments, n_clusters, noise, *, max_dim=8, min_dof=4):
     """Greedy merge of fragments into ``n_clusters`` motions (see module doc).
 
@@ -109,7 +104,7 @@ def merge_fragments(X0, mask, fragments, n_clusters, noise, *, max_dim=8, min_do
     X0, mask : ndarray of shape (n_samples, n_features)
         Tracks (zero where missing) and observed entries.
     fragments : ndarray of shape (n_samples,)
-        Fragment labels ``0 .. m - 1``.
+        Fragment labels, ``m`` distinct values.
     n_clusters : int
         Number of motions to keep (``<= m``).
     noise : float
@@ -124,42 +119,55 @@ def merge_fragments(X0, mask, fragments, n_clusters, noise, *, max_dim=8, min_do
     -------
     labels : ndarray of shape (n_samples,), dtype=intp
         In ``0 .. n_clusters - 1``.
+
+    Notes
+    -----
+    The residual per degree of freedom of every track to every fragment's
+    subspace is kept (``n_samples x m`` floats), so that a merge refits one
+    subspace and scores the tracks against it once: ``m`` fits and
+    ``O(m n_samples)`` residuals in all. Of two equal linkages the pair
+    ``(a, b)``, ``a < b``, that comes first in row-major order merges, into
+    ``a``.
     """
-    groups = {g: np.flatnonzero(fragments == g) for g in np.unique(fragments)}
+    _, group_of = np.unique(fragments, return_inverse=True)
+    group_of = group_of.astype(np.intp)
+    n_groups = int(group_of.max()) + 1
+    members = [np.flatnonzero(group_of == g) for g in range(n_groups)]
 
     def fit(index):
         return fit_adaptive_subspace(X0[index], mask[index], noise, max_dim=max_dim)
 
-    fits = {g: fit(index) for g, index in groups.items()}
-
-    def misfit(a, b):
-        """Median residual per dof of b's tracks to a's subspace (noise units)."""
-        index = groups[b]
-        residuals, dofs = subspace_residuals(
-            X0[index], mask[index], [fits[a][0]], [fits[a][1]]
+    # per_dof[p, a]: residual per dof of track p to fragment a's subspace;
+    # misfit[a, b]: median of per_dof[b's tracks, a], in units of the noise
+    per_dof = np.empty((X0.shape[0], n_groups))
+    misfit = np.empty((n_groups, n_groups))
+    for a in range(n_groups):
+        per_dof[:, a] = _residuals_per_dof(X0, mask, fit(members[a]), min_dof)
+        misfit[a] = _group_medians(per_dof[:, a], group_of, n_groups) / noise
+    alive = np.ones(n_groups, dtype=bool)
+    # each unordered pair once, in row-major order
+    first, second = np.triu_indices(n_groups, k=1)
+    for _ in range(n_groups - n_clusters):
+        pairs = np.flatnonzero(alive[first] & alive[second])
+        # the smaller of the two directions
+        linkage = np.minimum(
+            misfit[first[pairs], second[pairs]], misfit[second[pairs], first[pairs]]
         )
-        usable = dofs[:, 0] >= min_dof
-        if not usable.any():
-            return np.inf
-        return float(np.median(residuals[usable, 0] / dofs[usable, 0]) / noise)
-
-    def linkage(a, b):
-        return min(misfit(a, b), misfit(b, a))
-
-    keys = sorted(groups)
-    links = {(a, b): linkage(a, b) for i, a in enumerate(keys) for b in keys[i + 1 :]}
-    while len(groups) > n_clusters:
-        a, b = min(links, key=links.get)
-        groups[a] = np.concatenate([groups[a], groups.pop(b)])
-        fits.pop(b)
-        fits[a] = fit(groups[a])
-        links = {
-            pair: v for pair, v in links.items() if a not in pair and b not in pair
-        }
-        for g in groups:
-            if g != a:
-                links[(min(a, g), max(a, g))] = linkage(a, g)
-    labels = np.empty(fragments.shape[0], dtype=np.intp)
-    for new, index in enumerate(groups.values()):
-        labels[index] = new
-    return labels
+        best = pairs[np.argmin(linkage)]
+        a, b = first[best], second[best]
+        members[a] = np.concatenate([members[a], members[b]])
+        group_of[members[b]] = a
+        alive[b] = False
+        per_dof[:, a] = _residuals_per_dof(X0, mask, fit(members[a]), min_dof)
+        misfit[a] = _group_medians(per_dof[:, a], group_of, n_groups) / noise
+        mine = per_dof[members[a]]
+        misfit[:, a] = (
+            _group_medians(
+                mine.T.ravel(),
+                np.repeat(np.arange(n_groups), mine.shape[0]),
+                n_groups,
+            )
+            / noise
+        )
+    _, labels = np.unique(group_of, return_inverse=True)
+    return labels.astype(np.intp)

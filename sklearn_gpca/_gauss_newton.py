@@ -14,6 +14,7 @@ import numpy as np
 from scipy import sparse
 
 from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._least_squares import masked_residual
 
 # Floats per temporary of shape (rows in a chunk, n_features, n_features) in
 # the dense accumulation of J^T J: 2**22 float64 are 32 MiB, whatever the
@@ -148,7 +149,6 @@ class GaussNewtonMatrix:
             .transpose(0, 2, 1, 3)
             .reshape(n_features * r, n_features * r)
         )
-        residual = X0 - U @ V.T
-        residual *= self.mask
+        residual = masked_residual(X0, self.mask, U, V)
         gradient = residual.T @ U
         return hessian, gradient

@@ -58,7 +58,7 @@ from sklearn_gpca._spectral import (
 from sklearn_gpca._subspaces import (
     fit_subspaces,
     hyperplanes_from_normals,
-    sine_residuals,
+    own_residuals,
 )
 from sklearn_gpca._validation import Count
 from sklearn_gpca._veronese import n_monomials, veronese_exponents
@@ -557,8 +557,7 @@ def _gpca(X, n_clusters, p):
     result.residual_scale = np.nan
     if p["refine"]:
         bases, normals = fit_subspaces(unit, labels, *fit)
-        own = sine_residuals(unit, bases)[np.arange(n_points), labels]
-        result.residual_scale = float(np.median(own))
+        result.residual_scale = float(np.median(own_residuals(unit, labels, bases)))
     _warn_empty_clusters(labels, n_clusters, unit)
     if not result.converged:
         warnings.warn(

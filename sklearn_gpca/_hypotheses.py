@@ -13,9 +13,8 @@ residuals, linear in ``P`` for a bounded number ``H`` of hypotheses.
 import numpy as np
 
 from sklearn_gpca._chunks import row_chunks
-
-_RIDGE = 1e-12
-_TINY = np.finfo(np.float64).tiny
+from sklearn_gpca._least_squares import damp
+from sklearn_gpca._rows import TINY
 
 
 def local_hypotheses(
@@ -113,7 +112,7 @@ def local_noise_level(
     noise = noise[np.isfinite(noise) & (noise > 0)]
     if noise.size == 0:
         observed = X0[mask]
-        return float(max(np.mean(observed**2) * 1e-6, _TINY))
+        return float(max(np.mean(observed**2) * 1e-6, TINY))
     return float(np.median(noise))
 
 
@@ -154,9 +153,7 @@ def hypothesis_residuals(X0, mask, bases, supports):
             fitted = np.einsum("phd,phd->ph", rhs, rhs)
         else:
             gram = (m[rows] @ outer).reshape(-1, n_hyp, dim, dim)
-            scale = np.trace(gram, axis1=-2, axis2=-1) / dim
-            gram += (_RIDGE * scale + _TINY)[..., None, None] * np.eye(dim)
-            coefs = np.linalg.solve(gram, rhs[..., None])[..., 0]
+            coefs = np.linalg.solve(damp(gram), rhs[..., None])[..., 0]
             fitted = np.einsum("phd,phd->ph", rhs, coefs)
         residuals[rows] = np.maximum(norms - fitted, 0.0)
     dofs = np.maximum(counts - ranks[None, :], 0)

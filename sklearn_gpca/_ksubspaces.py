@@ -13,7 +13,7 @@ zero smoothing this is plain K-subspaces (Bradley & Mangasarian 2000; Ho et al.
 import numpy as np
 
 from sklearn_gpca._rows import TINY
-from sklearn_gpca._subspaces import fit_subspaces, sine_residuals
+from sklearn_gpca._subspaces import fit_subspaces, own_residuals, sine_residuals
 
 
 def smoothed_cost(residuals, scale, neighbor_labels, smoothing):
@@ -129,7 +129,7 @@ def refill_small_clusters(
         bases, _ = fit_subspaces(
             points, labels, n_clusters, subspace_dim, subspace_dim_tol
         )
-        own = sine_residuals(points, bases)[np.arange(points.shape[0]), labels]
+        own = own_residuals(points, labels, bases)
         worst = np.argmax(np.where(donors, own, -np.inf))
         closeness = np.where(donors, np.abs(points @ points[worst]), -np.inf)
         seed = np.argsort(-closeness, kind="stable")[:seed_size]
@@ -215,7 +215,7 @@ def k_subspaces(
     (array([0., 0.]), True)
     """
     labels = np.asarray(labels, dtype=np.intp).copy()
-    n_points, n_features = points.shape
+    n_features = points.shape[1]
     fit = (n_clusters, n_features - 1 if subspace_dim is None else subspace_dim)
     fit += (subspace_dim_tol,)
     converged = False
@@ -228,11 +228,11 @@ def k_subspaces(
         reseedable -= set(np.unique(refilled[refilled != labels]).tolist())
         labels = refilled
         bases, _ = fit_subspaces(points, labels, *fit)
-        residuals = sine_residuals(points, bases)
-        scale = np.median(residuals[np.arange(n_points), labels])
+        scale = np.median(own_residuals(points, labels, bases))
         neighbor_labels = labels[neighbors] if smoothing > 0 else None
-        cost = smoothed_cost(residuals, scale, neighbor_labels, smoothing)
-        new_labels = np.argmin(cost, axis=1).astype(np.intp)
+        new_labels = smoothed_assignment(
+            points, bases, scale, neighbor_labels, smoothing
+        )
         # synchronous updates of the Potts term can settle into a 2-cycle
         if np.array_equal(new_labels, labels) or np.array_equal(new_labels, previous):
             converged = True

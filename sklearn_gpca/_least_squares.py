@@ -10,6 +10,7 @@ exact fit is defined here too.
 import numpy as np
 
 from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._rows import TINY
 
 # Relative Tikhonov damping added to every small normal-equation system, so
 # that a numerically singular system never raises ``LinAlgError`` deep inside
@@ -33,9 +34,41 @@ def damp(gram):
     """Add the relative ridge to the diagonal of each ``r x r`` matrix, in place."""
     r = gram.shape[-1]
     diagonal = np.arange(r)
-    ridge = _RIDGE * np.trace(gram, axis1=-2, axis2=-1) / r + np.finfo(float).tiny
+    ridge = _RIDGE * np.trace(gram, axis1=-2, axis2=-1) / r + TINY
     gram[..., diagonal, diagonal] += ridge[..., None]
     return gram
+
+
+def masked_residual(X0, mask, U, V):
+    """Residual ``X0 - U V^T`` on the observed entries, zero on the missing ones.
+
+    Parameters
+    ----------
+    X0 : ndarray of shape (n_rows, n_cols)
+        Data with missing entries set to zero.
+    mask : ndarray of shape (n_rows, n_cols) or None
+        1.0 (or True) where observed; None when nothing is missing.
+    U : ndarray of shape (n_rows, r)
+    V : ndarray of shape (n_cols, r)
+
+    Returns
+    -------
+    residual : ndarray of shape (n_rows, n_cols)
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca._least_squares import masked_residual
+    >>> X0 = np.array([[3.0, 0.0], [2.0, 5.0]])
+    >>> mask = np.array([[1.0, 0.0], [1.0, 1.0]])
+    >>> masked_residual(X0, mask, np.ones((2, 1)), np.array([[1.0], [-1.0]]))
+    array([[2., 0.],
+           [1., 6.]])
+    """
+    residual = X0 - U @ V.T
+    if mask is not None:
+        residual *= mask
+    return residual
 
 
 def row_grams(mask, basis):

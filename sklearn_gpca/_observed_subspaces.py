@@ -24,11 +24,9 @@ observed entries of a row and nothing else:
 import numpy as np
 
 from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._least_squares import damp, masked_residual
+from sklearn_gpca._rows import TINY
 
-# Relative Tikhonov damping of every small normal-equation system, so that a
-# numerically singular system (a row observing fewer coordinates than the
-# dimension) never raises deep inside a batched solve.
-_RIDGE = 1e-12
 # Rows per chunk of the batched solves: their d x d temporaries stay small.
 _CHUNK = 2**14
 
@@ -51,16 +49,6 @@ def observed_entries(X):
     X = np.asarray(X, dtype=np.float64)
     mask = ~np.isnan(X)
     return np.where(mask, X, 0.0), mask
-
-
-def _solve_small(gram, rhs):
-    """Solve the batch of symmetric systems ``gram[i] z_i = rhs[i]`` (damped)."""
-    d = gram.shape[-1]
-    scale = np.trace(gram, axis1=-2, axis2=-1) / d
-    gram = gram + (_RIDGE * scale + np.finfo(np.float64).tiny)[:, None, None] * np.eye(
-        d
-    )
-    return np.linalg.solve(gram, rhs[..., None])[..., 0]
 
 
 def _outer_columns(basis):
@@ -108,7 +96,8 @@ def row_fits(X0, mask, basis, support=None):
         x = X0[rows] * w
         rhs = x @ basis
         gram = (w @ outer.T).reshape(-1, d, d)
-        z = _solve_small(gram, rhs)
+        # damped, so that a row observing fewer coordinates than d never raises
+        z = np.linalg.solve(damp(gram), rhs[..., None])[..., 0]
         coefs[rows] = z
         residuals[rows] = np.einsum("ij,ij->i", x, x) - np.einsum("ij,ij->i", rhs, z)
     counts = np.count_nonzero(weights, axis=1)
@@ -167,7 +156,7 @@ def comoment_matrix(X0, mask, weights=None):
         m = m * weights[:, None]
     pair_counts = m.T @ mask
     moments = (X0 * (m if weights is not None else 1.0)).T @ X0
-    return moments / np.maximum(pair_counts, np.finfo(np.float64).tiny), pair_counts
+    return moments / np.maximum(pair_counts, TINY), pair_counts
 
 
 def fit_observed_subspace(
@@ -248,9 +237,9 @@ def _residual_direction(X0, mask, basis, support):
     """Leading eigenvector of the co-observed second moments of the residuals."""
     coefs, _, _ = row_fits(X0[:, support], mask[:, support], basis[support])
     residual = np.zeros_like(X0)
-    residual[:, support] = (X0[:, support] - coefs @ basis[support].T) * mask[
-        :, support
-    ]
+    residual[:, support] = masked_residual(
+        X0[:, support], mask[:, support], coefs, basis[support]
+    )
     moments, _ = comoment_matrix(residual, mask)
     _, vectors = np.linalg.eigh(moments)
     return vectors[:, -1]

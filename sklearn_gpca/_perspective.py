@@ -15,11 +15,10 @@ from sklearn.utils.extmath import randomized_svd
 from sklearn.utils.validation import validate_data
 
 from sklearn_gpca._missing import describe_indices, masked_to_nan
+from sklearn_gpca._rows import TINY, unit_rows
 from sklearn_gpca._spectral import embedding_kmeans
 from sklearn_gpca._validation import Count
 from sklearn_gpca._view_hypotheses import observed_frames, preference_votes
-
-_TINY = np.finfo(np.float64).tiny
 
 #: Models :class:`PerspectiveClustering` can fuse.
 MODELS = ("fundamental", "homography", "subspace")
@@ -86,7 +85,7 @@ def spectral_embedding_votes(votes, n_components, random_state):
     in the singular vectors, and keeps it.
     """
     degrees = kernel_degrees(votes)
-    scaled = votes.multiply(1.0 / np.sqrt(np.maximum(degrees, _TINY))[:, None])
+    scaled = votes.multiply(1.0 / np.sqrt(np.maximum(degrees, TINY))[:, None])
     left, _, _ = randomized_svd(
         scaled.tocsr(),
         n_components,
@@ -94,8 +93,7 @@ def spectral_embedding_votes(votes, n_components, random_state):
         n_iter=10,
         random_state=random_state,
     )
-    norms = np.linalg.norm(left, axis=1, keepdims=True)
-    return left / np.maximum(norms, _TINY)
+    return unit_rows(left)
 
 
 def _indicator(labels, n_clusters):
@@ -119,7 +117,7 @@ def refine_normalized_cut(votes, labels, n_clusters, max_iter):
     n_iter : int
         Rounds run; stops when no label changes.
     """
-    degrees = np.maximum(kernel_degrees(votes), _TINY)
+    degrees = np.maximum(kernel_degrees(votes), TINY)
     labels = np.asarray(labels, dtype=np.intp)
     n_iter = 0
     while n_iter < max_iter:
@@ -128,7 +126,7 @@ def refine_normalized_cut(votes, labels, n_clusters, max_iter):
         KY = votes @ (votes.T @ Y)
         volumes = degrees @ Y
         within = np.einsum("pc,pc->c", Y, KY)
-        safe = np.maximum(volumes, _TINY)
+        safe = np.maximum(volumes, TINY)
         cost = -2.0 * (KY / degrees[:, None]) / safe + within / safe / safe
         # An emptied cluster stays empty: spectral clustering chose n_clusters.
         cost[:, volumes <= 0] = np.inf

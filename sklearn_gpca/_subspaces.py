@@ -172,6 +172,37 @@ def sine_residuals(points, bases):
     )
 
 
+def own_residuals(points, labels, bases):
+    """Squared sine distance of each unit point to its own cluster's subspace.
+
+    Parameters
+    ----------
+    points : ndarray of shape (n_points, n_features)
+        Unit vectors.
+    labels : ndarray of shape (n_points,)
+        Cluster of each point, an index into ``bases``.
+    bases : list of ndarray of shape (n_features, d_k)
+        Orthonormal bases.
+
+    Returns
+    -------
+    residuals : ndarray of shape (n_points,)
+        ``sine_residuals(points, bases)[i, labels[i]]``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca._subspaces import own_residuals
+    >>> points = np.array([[1.0, 0.0], [0.6, 0.8]])
+    >>> bases = [np.array([[1.0], [0.0]]), np.array([[0.0], [1.0]])]
+    >>> own_residuals(points, np.array([0, 0]), bases).round(2)
+    array([0.  , 0.64])
+    >>> own_residuals(points, np.array([1, 1]), bases).round(2)
+    array([1.  , 0.36])
+    """
+    return sine_residuals(points, bases)[np.arange(points.shape[0]), labels]
+
+
 def residual_energy(points, labels, bases):
     """Sum of the squared sine distances of unit points to their own subspace."""
     energy = 0.0

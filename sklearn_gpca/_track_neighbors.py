@@ -50,7 +50,7 @@ def coobserved_sq_distances(X0, mask, rows, Y0, ymask, min_overlap):
     return distances
 
 
-def track_neighbors(X0, mask, n_neighbors, *, min_overlap=4, n_jobs=None):
+def track_neighbors(X0, mask, n_neighbors, *, min_overlap=4):
     """Indices of each track's nearest tracks on co-observed coordinates.
 
     Parameters
@@ -64,9 +64,6 @@ def track_neighbors(X0, mask, n_neighbors, *, min_overlap=4, n_jobs=None):
     min_overlap : int, default=4
         Fewest co-observed coordinates of two neighbours; a track observing
         fewer coordinates than this needs all of its own.
-    n_jobs : int or None, default=None
-        Parallel jobs of the search when nothing is missing (see
-        :class:`sklearn.neighbors.NearestNeighbors`).
 
     Returns
     -------
@@ -76,7 +73,7 @@ def track_neighbors(X0, mask, n_neighbors, *, min_overlap=4, n_jobs=None):
     """
     n_samples = X0.shape[0]
     if mask.all():
-        tree = NearestNeighbors(n_neighbors=n_neighbors + 1, n_jobs=n_jobs).fit(X0)
+        tree = NearestNeighbors(n_neighbors=n_neighbors + 1).fit(X0)
         found = tree.kneighbors(X0, return_distance=False)
         # drop the track itself (ties may put it in any position)
         keep = found != np.arange(n_samples)[:, None]

@@ -27,7 +27,7 @@ time ``O(n_hypotheses * n_points)``, no Python loop over either.
 
 import numpy as np
 
-_TINY = np.finfo(np.float64).tiny
+from sklearn_gpca._rows import TINY
 
 #: Smallest number of point pairs each model is estimated from.
 MIN_SAMPLE = {"fundamental": 8, "homography": 4}
@@ -87,7 +87,7 @@ def _null_vectors(A):
 
 def _unit_frobenius(M):
     norms = np.linalg.norm(M, axis=(-2, -1), keepdims=True)
-    return M / np.maximum(norms, _TINY)
+    return M / np.maximum(norms, TINY)
 
 
 def fit_fundamental(points1, points2):
@@ -225,7 +225,7 @@ def sampson_fundamental(F, points1, points2):
     Ftx2 = _transform_all(np.swapaxes(F, 1, 2), points2)
     algebraic = Fx1[0] * points2[:, :1] + Fx1[1] * points2[:, 1:2] + Fx1[2]
     gradient = Fx1[0] ** 2 + Fx1[1] ** 2 + Ftx2[0] ** 2 + Ftx2[1] ** 2
-    return np.abs(algebraic) / np.sqrt(np.maximum(gradient, _TINY))
+    return np.abs(algebraic) / np.sqrt(np.maximum(gradient, TINY))
 
 
 def sampson_homography(H, points1, points2):
@@ -264,6 +264,6 @@ def sampson_homography(H, points1, points2):
     g11 = a1**2 + b1**2 + w2
     g22 = a2**2 + b2**2 + w2
     g12 = a1 * a2 + b1 * b2
-    det = np.maximum(g11 * g22 - g12**2, _TINY)
+    det = np.maximum(g11 * g22 - g12**2, TINY)
     quadratic = (g22 * e1**2 - 2 * g12 * e1 * e2 + g11 * e2**2) / det
     return np.sqrt(np.maximum(quadratic, 0.0))

@@ -17,7 +17,12 @@ from scipy import linalg
 
 from sklearn_gpca._als import als
 from sklearn_gpca._gauss_newton import GaussNewtonMatrix, factorisation_flops
-from sklearn_gpca._least_squares import fits_exactly, inverse_row_grams, row_grams
+from sklearn_gpca._least_squares import (
+    fits_exactly,
+    inverse_row_grams,
+    masked_residual,
+    row_grams,
+)
 
 # Levenberg-Marquardt damping lambda * I, relative to the mean diagonal of
 # J^T J, divided by 10 after a successful step and multiplied by 10 after a
@@ -102,8 +107,7 @@ class _Projection:
         self.V = V
         self.inv_gram = inverse_row_grams(mask, V.T)
         self.U = _apply(self.inv_gram, X0 @ V)
-        self.residual = X0 - self.U @ V.T
-        self.residual *= mask
+        self.residual = masked_residual(X0, mask, self.U, V)
         self.cost = np.einsum("ij,ij->", self.residual, self.residual)
 
 

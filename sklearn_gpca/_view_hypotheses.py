@@ -23,6 +23,8 @@ import numpy as np
 from scipy import sparse
 from sklearn.neighbors import NearestNeighbors
 
+from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._memory import chunk_rows
 from sklearn_gpca._two_view import (
     MIN_SAMPLE,
     fit_fundamental,
@@ -111,15 +113,23 @@ def _subspace_residuals(tracks, samples):
     """Distance of every track to the span of every sample's tracks.
 
     Divided by the square root of the residual's degrees of freedom, as in
-    the oracle's per-degree-of-freedom residual.
+    the oracle's per-degree-of-freedom residual. Computed in chunks of tracks
+    whose temporaries fit in scikit-learn's ``working_memory``.
     """
     bases = np.linalg.qr(np.swapaxes(tracks[samples], 1, 2))[0]
-    coords = np.einsum("pd,hdk->phk", tracks, bases)
-    # The residual itself, not ||x||^2 - ||Q^T x||^2, which loses half the
-    # digits near 0.
-    residual = tracks[:, None, :] - np.einsum("phk,hdk->phd", coords, bases)
+    n_hyp, n_coords, _ = bases.shape
+    distances = np.empty((tracks.shape[0], n_hyp))
+    # the three n_hyp x n_coords temporaries of a chunk of tracks (the fit, the
+    # residual, its square in the norm) fit in working_memory
+    for rows in row_chunks(tracks.shape[0], chunk_rows(3 * 8 * n_hyp * n_coords)):
+        part = tracks[rows]
+        coords = np.einsum("pd,hdk->phk", part, bases)
+        # The residual itself, not ||x||^2 - ||Q^T x||^2, which loses half the
+        # digits near 0.
+        residual = part[:, None, :] - np.einsum("phk,hdk->phd", coords, bases)
+        distances[rows] = np.linalg.norm(residual, axis=2)
     dof = tracks.shape[1] - SUBSPACE_RANK
-    return np.linalg.norm(residual, axis=2) / np.sqrt(dof)
+    return distances / np.sqrt(dof)
 
 
 def top_votes(residuals, top):

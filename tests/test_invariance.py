@@ -13,6 +13,7 @@ weigh a point by its copies (its weight, as issue 13 allows), which moves the
 
 import numpy as np
 import pytest
+from _hyperplanes import draw_points_on_hyperplanes
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -46,18 +47,7 @@ def separable_hyperplanes(draw):
     normals = normals @ np.linalg.qr(square)[0].T
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     design = np.random.RandomState(0).standard_normal((40, n_features - 1))
-    X, y = [], []
-    for k, normal in enumerate(normals):
-        basis = np.linalg.svd(normal[None, :])[2][1:]
-        moves = draw(arrays(np.float64, (40, n_features - 1), elements=UNIT))
-        X.append((design + 0.5 * moves) @ basis)
-        y.append(np.full(40, k))
-    X, y = np.vstack(X), np.concatenate(y)
-    norms = np.linalg.norm(X, axis=1)
-    sines = np.abs(X @ normals.T) / np.maximum(norms, 1e-300)[:, None]
-    sines[np.arange(len(y)), y] = np.inf
-    keep = (sines.min(axis=1) >= 0.1) & (norms > 0.1)
-    X, y = X[keep], y[keep]
+    X, y = draw_points_on_hyperplanes(draw, normals, design, UNIT)
     # enough distinct points for the Veronese embedding of each hyperplane
     assume(np.bincount(y, minlength=n_clusters).min() >= 20)
     return X, y

@@ -9,7 +9,7 @@ from sklearn.metrics import adjusted_rand_score
 
 from sklearn_gpca._affinity import sign_invariant_neighbors
 from sklearn_gpca._ksubspaces import k_subspaces, refill_small_clusters
-from sklearn_gpca._subspaces import fit_subspace, sine_residuals
+from sklearn_gpca._subspaces import fit_subspace, fit_subspaces, sine_residuals
 
 
 def unit(X):
@@ -65,6 +65,33 @@ def test_refinement_fixes_corrupted_labels(smoothing):
     assert converged and 1 <= n_iter < 50
     assert len(bases) == 3
     assert np.mean(refined != y) < 0.02
+
+
+@pytest.mark.parametrize("smoothing", [0.0, 5.0])
+def test_one_round_is_the_smoothed_assignment_to_the_fitted_subspaces(smoothing):
+    """A round fits one subspace per cluster, takes the median squared sine
+    distance of the points to their own as the scale, and gives each point
+    the label of least ``residual / scale + smoothing * disagreements``."""
+    rng = np.random.RandomState(2)
+    X, y, _ = union([3, 3, 3], 60, rng, noise=0.05)
+    labels = np.where(rng.rand(y.size) < 0.3, rng.randint(0, 3, y.size), y)
+    neighbors = sign_invariant_neighbors(X, 8)
+    bases, _ = fit_subspaces(X, labels, 3, 3, 0.05)
+    residuals = sine_residuals(X, bases)
+    scale = np.median(residuals[np.arange(y.size), labels])
+    disagree = (labels[neighbors][:, :, None] != np.arange(3)).sum(axis=1)
+    expected = np.argmin(residuals / scale + smoothing * disagree, axis=1)
+    found, _, n_iter, _ = k_subspaces(
+        X,
+        labels,
+        3,
+        neighbors=neighbors,
+        smoothing=smoothing,
+        subspace_dim=3,
+        max_iter=1,
+    )
+    assert n_iter == 1 and not np.array_equal(expected, labels)
+    assert_array_equal(found, expected)
 
 
 def test_refinement_keeps_true_labels():

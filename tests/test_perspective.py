@@ -6,6 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
 from scipy import sparse
+from sklearn import config_context
 from sklearn.base import clone
 
 from sklearn_gpca import PerspectiveClustering
@@ -74,11 +75,14 @@ def test_top_votes_are_the_smallest_residuals():
     assert top_votes(residuals, 1.0).shape == (30, 40)
 
 
-def test_subspace_residuals_match_least_squares():
+@pytest.mark.parametrize("working_memory", [None, 1e-4])
+def test_subspace_residuals_match_least_squares(working_memory):
+    """Also in chunks of one track, when working_memory holds no more."""
     rng = np.random.RandomState(2)
     tracks = rng.normal(size=(12, 8))
     samples = np.array([[0, 1, 2, 3], [4, 5, 6, 7], [1, 5, 9, 11]])
-    residuals = _subspace_residuals(tracks, samples)
+    with config_context(working_memory=working_memory):
+        residuals = _subspace_residuals(tracks, samples)
     for h, s in enumerate(samples):
         B = tracks[s].T
         fit = B @ np.linalg.lstsq(B, tracks.T, rcond=None)[0]

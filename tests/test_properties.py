@@ -10,6 +10,7 @@ matrix that can be read.
 import warnings
 
 import numpy as np
+from _hyperplanes import draw_points_on_hyperplanes
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
@@ -113,19 +114,9 @@ def separable_hyperplanes(draw):
     normals /= np.linalg.norm(normals, axis=1, keepdims=True)
     # 25 distinct directions: copies of a point are another matter (issue 13)
     design = np.random.RandomState(0).standard_normal((25, 3))
-    X, y = [], []
-    for k, normal in enumerate(normals):
-        basis = np.linalg.svd(normal[None, :])[2][1:]  # 3 x 4, orthonormal
-        moves = draw(arrays(np.float64, (25, 3), elements=FINITE))
-        X.append((design + 0.5 * moves) @ basis)
-        y.append(np.full(25, k))
-    X, y = np.vstack(X), np.concatenate(y)
-    norms = np.linalg.norm(X, axis=1)
-    sines = np.abs(X @ normals.T) / np.maximum(norms, 1e-300)[:, None]
-    sines[np.arange(len(y)), y] = np.inf
-    keep = (sines.min(axis=1) >= 0.1) & (norms > 0.1)
-    assume(np.bincount(y[keep], minlength=n_clusters).min() >= 12)
-    return X[keep], y[keep]
+    X, y = draw_points_on_hyperplanes(draw, normals, design, FINITE)
+    assume(np.bincount(y, minlength=n_clusters).min() >= 12)
+    return X, y
 
 
 @settings(max_examples=20, deadline=None)
