@@ -15,8 +15,11 @@ Settings (``--setting``):
   pipeline at this fraction).
 
 For every sequence: the misclassification of ``segment_motions(X, n)``, of its
-refined candidates (and of the best of them in hindsight: the coding length
-that picks one is not always right), of the default
+refined candidates (and of the best of them in hindsight: the criterion that
+picks one is not always right), of the candidate kept by each selection rule
+(``init`` "auto" or "all" x ``selection`` "coding_length" or "separability",
+all from one ``init="all"`` run: its gpca and fragments candidates are those of
+``init="auto"``, drawn first from the same seed), of the default
 ``make_pipeline(PowerFactorization(), GPCAClustering(n))``, of
 :func:`sklearn_gpca.paper_pipeline` (tracks settings) and of the oracle
 (:func:`sklearn_gpca.metrics.oracle_labels`: the nearest true 4-D subspace on
@@ -45,6 +48,7 @@ from pathlib import Path
 import numpy as np
 from _tables import markdown_table, write_markdown
 from joblib import Parallel, delayed
+from scipy.stats import kendalltau
 from threadpoolctl import threadpool_limits
 
 from sklearn_gpca import (
@@ -53,7 +57,8 @@ from sklearn_gpca import (
     paper_pipeline,
     segment_motions,
 )
-from sklearn_gpca._segment import projectable
+from sklearn_gpca._segment import AMBIGUITY_TOLERANCE, projectable
+from sklearn_gpca._segment_selection import select_candidate
 from sklearn_gpca.datasets import load_hopkins155, make_missing, make_tracks
 from sklearn_gpca.metrics import misclassification_rate, oracle_labels
 
@@ -92,9 +97,18 @@ TRACK_SETTINGS = {
 }
 #: The setting drawn with 10 % outlier tracks.
 OUTLIER_SETTING = "handheld, 3 motions, 40 frames"
-#: ``outlier_threshold`` of the outlier table (chosen on handheld draws
-#: started from the true labels, seeds 0-1 of this setting).
-OUTLIER_THRESHOLD = 20.0
+#: ``outlier_threshold`` of the outlier table: a false-alarm probability per
+#: track (see ``bench_outliers.py``, which chose it).
+OUTLIER_THRESHOLD = 1e-3
+#: Selection rules reported: row key -> (candidates, selection).
+RULES = {
+    "auto+coding": ("auto", "coding_length"),
+    "auto+separability": ("auto", "separability"),
+    "all+coding": ("all", "coding_length"),
+    "all+separability": ("all", "separability"),
+}
+#: Criteria whose agreement with the error is reported: name -> info key.
+CRITERIA = {"coding length": "coding_lengths", "ambiguous fraction": "ambiguity"}
 
 
 def _pipeline(X, n, paper):
@@ -123,14 +137,38 @@ def run_one(setting, name, X, y, n, threads, paper):
         row["missing"] = float(np.isnan(X).mean())
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            (labels, info), row["segment_s"] = _timed(
-                lambda: segment_motions(X, n, random_state=0, return_info=True)
+            (_, info), row["segment_s"] = _timed(
+                lambda: segment_motions(
+                    X, n, init="all", random_state=0, return_info=True
+                )
             )
-        row["segment"] = misclassification_rate(y, labels)
-        row["candidates"] = {
-            c: misclassification_rate(y, r)
-            for c, r in zip(info.candidates, info.refined, strict=True)
-        }
+        errors = [misclassification_rate(y, r) for r in info.refined]
+        row["candidates"] = dict(zip(info.candidates, errors, strict=True))
+        for key, (init, selection) in RULES.items():
+            keep = [
+                i
+                for i, c in enumerate(info.candidates)
+                if init == "all" or c != "votes"
+            ]
+            chosen = select_candidate(
+                info.coding_lengths[keep],
+                info.ambiguity[keep],
+                selection=selection,
+                tolerance=AMBIGUITY_TOLERANCE,
+            )
+            row[key] = errors[keep[chosen]]
+        # the default: init="auto", selection="coding_length"
+        row["segment"] = row["auto+coding"]
+        for name, info_key in CRITERIA.items():
+            values = np.asarray(info[info_key], dtype=float)
+            row[f"hit {name}"] = float(
+                errors[int(np.argmin(values))] <= min(errors) + 1e-12
+            )
+            row[f"tau {name}"] = (
+                kendalltau(values, errors)[0]
+                if np.ptp(errors) > 0 and np.ptp(values) > 0
+                else np.nan
+            )
         # what a perfect selection among the refined candidates would give
         row["hindsight"] = min(row["candidates"].values())
         # the pipelines take the tracks and coordinates they can project
@@ -204,11 +242,19 @@ def _cell(values, fmt="{:.2f}", scale=100.0):
 
 def _methods(rows):
     names = sorted({c for r in rows for c in r["candidates"]})
-    methods = [("segment_motions", "segment", "segment_s")]
+    methods = [
+        ("segment_motions (default: init='auto', coding length)", "segment", None)
+    ]
+    methods += [
+        (f"segment_motions, init='{init}', selection='{selection}'", key, None)
+        for key, (init, selection) in RULES.items()
+        if key != "auto+coding"
+    ]
     methods += [(f"segment_motions, candidate {c} refined", c, None) for c in names]
     methods += [
         ("segment_motions, best refined candidate (hindsight)", "hindsight", None)
     ]
+    methods += [("(time of segment_motions, init='all')", None, "segment_s")]
     methods += [("default pipeline", "default", "default_s")]
     if any("paper" in r for r in rows):
         methods += [("paper pipeline", "paper", "paper_s")]
@@ -217,7 +263,31 @@ def _methods(rows):
 
 
 def _value(row, key):
+    if key is None:
+        return np.nan
     return row["candidates"].get(key, np.nan) if key not in row else row[key]
+
+
+def criteria_table(rows):
+    """Agreement of each criterion with the error over the refined candidates."""
+    header = [
+        "criterion (init='all')",
+        "mean Kendall tau with the error",
+        "sequences with a tau",
+        "its minimum is the best candidate (share of sequences)",
+    ]
+    body = []
+    for name in CRITERIA:
+        taus = np.array([r[f"tau {name}"] for r in rows], dtype=float)
+        body.append(
+            [
+                name,
+                f"{np.nanmean(taus):.2f}" if np.isfinite(taus).any() else "n/a",
+                f"{int(np.isfinite(taus).sum())} of {len(rows)}",
+                f"{np.mean([r[f'hit {name}'] for r in rows]):.2f}",
+            ]
+        )
+    return markdown_table(header, body)
 
 
 def tracks_table(rows):
@@ -229,6 +299,8 @@ def tracks_table(rows):
             _cell([_value(r, key) for r in rows if r["setting"] == s]) for s in settings
         ]
         cells.append(_cell([_value(r, key) for r in rows]))
+        if key is None:
+            cells = [""] * len(cells)
         cells.append(f"{np.median([r[tkey] for r in rows]):.2f}" if tkey else "")
         body.append([label, *cells])
     missing = [
@@ -256,9 +328,11 @@ def hopkins_table(rows):
             _cell([_value(r, key) for r in rows if n is None or r["n"] == n])
             for _, n in groups
         ]
+        if key is None:
+            cells = [""] * len(cells)
         cells += [
-            f"{np.nanmedian(values):.2f}",
-            f"{int(np.sum(values > 5))}",
+            f"{np.nanmedian(values):.2f}" if key else "",
+            f"{int(np.sum(values > 5))}" if key else "",
             f"{np.median([r[tkey] for r in rows]):.3f}" if tkey else "",
         ]
         body.append([label, *cells])
@@ -341,7 +415,7 @@ def main():
             "",
         ]
         lines += [f"- {s}: `{p}`" for s, p in TRACK_SETTINGS.items()]
-        lines += ["", *tracks_table(rows), ""]
+        lines += ["", *tracks_table(rows), "", *criteria_table(rows), ""]
         outlier_rows = Parallel(n_jobs=args.jobs)(
             delayed(run_outliers)(name, X, y, n, threads)
             for _, name, X, y, n in track_draws(args.draws, outlier_fraction=0.1)
@@ -359,7 +433,7 @@ def main():
             "",
         ]
     else:
-        lines += [*hopkins_table(rows), ""]
+        lines += [*hopkins_table(rows), "", *criteria_table(rows), ""]
     out = args.out or Path(__file__).parent / "results" / f"segment_{args.setting}.md"
     write_markdown(out, "\n".join(lines))
     print("\n".join(lines))

@@ -16,7 +16,6 @@ from typing import NamedTuple
 import numpy as np
 from sklearn.exceptions import ConvergenceWarning
 from sklearn.utils.extmath import svd_flip
-from threadpoolctl import ThreadpoolController
 
 from sklearn_gpca._als import ALS
 from sklearn_gpca._completion_rank import max_completion_rank, select_completion_rank
@@ -24,17 +23,13 @@ from sklearn_gpca._least_squares import fit_rows
 from sklearn_gpca._mask_graph import determinable, n_connected_blocks
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._multistart import best_of_starts
+from sklearn_gpca._threads import one_thread
 from sklearn_gpca._varpro import VarPro
 
 # The solvers run many small BLAS calls: one BLAS thread is faster than the
 # default pool, several times so on a busy machine
 # (benchmarks/results/frames.md, measured both ways).
 LIMIT_BLAS_THREADS = True
-
-
-@functools.cache
-def _threadpool_controller():
-    return ThreadpoolController()
 
 
 def _blas_threads_limited(function):
@@ -44,7 +39,7 @@ def _blas_threads_limited(function):
     def wrapper(*args, **kwargs):
         if not LIMIT_BLAS_THREADS:
             return function(*args, **kwargs)
-        with _threadpool_controller().limit(limits=1, user_api="blas"):
+        with one_thread("blas"):
             return function(*args, **kwargs)
 
     return wrapper

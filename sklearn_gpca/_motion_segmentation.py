@@ -24,8 +24,9 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     ``GPCAClustering`` (and, with ``init="votes"``, from votes for local
     perspective and subspace hypotheses, as :class:`PerspectiveClustering`)
     are refined by smoothed
-    K-subspaces on each track's observed entries in ``R^{2F}``, and the
-    shortest coding length is kept;
+    K-subspaces on each track's observed entries in ``R^{2F}``, and one is
+    kept by ``selection`` (the shortest coding length, or the shortest among
+    the candidates leaving the fewest tracks ambiguous between two motions);
     optionally, tracks that fit no motion are labelled ``-1``. See
     :func:`segment_motions` for the stages and every parameter.
 
@@ -34,8 +35,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     n_clusters : int, default=2
         Number of motions.
 
-    init : {"auto", "fragments", "gpca", "votes"}, default="auto"
+    init : {"auto", "all", "fragments", "gpca", "votes"}, default="auto"
         Candidate segmentations (see :func:`segment_motions`).
+
+    selection : {"coding_length", "separability"}, default="coding_length"
+        How the refined candidate is kept (see :func:`segment_motions`).
 
     subspace_dim : int, default=4
         Dimension of the motion subspaces.
@@ -53,9 +57,10 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     max_iter : int, default=30
         Maximum rounds of the refinement.
 
-    outlier_threshold : float > 0 or None, default=None
-        Label ``-1`` the tracks whose misfit to every motion exceeds this
-        many times the motion's median misfit; None labels every track.
+    outlier_threshold : float in (0, 1) or None, default=None
+        Label ``-1`` the tracks that fit no motion, at this false-alarm
+        probability per track (e.g. ``1e-3``; see
+        :func:`~sklearn_gpca.segment_motions`); None labels every track.
 
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
@@ -70,6 +75,10 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
 
     coding_lengths_ : ndarray of shape (n_candidates,)
         Coding length (bits) of each refined candidate.
+
+    ambiguity_ : ndarray of shape (n_candidates,)
+        Share of ambiguous tracks of each refined candidate (see
+        :func:`sklearn_gpca._segment_selection.ambiguous_fraction`).
 
     chosen_ : str
         The candidate kept.
@@ -103,13 +112,14 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
 
     _parameter_constraints: dict = {
         "n_clusters": [Count(1, None, closed="left")],
-        "init": [StrOptions({"auto", "fragments", "gpca", "votes"})],
+        "init": [StrOptions({"auto", "all", "fragments", "gpca", "votes"})],
+        "selection": [StrOptions({"coding_length", "separability"})],
         "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
         "n_neighbors": [Count(1, None, closed="left")],
         "per_cluster": ["boolean"],
         "max_iter": [Count(1, None, closed="left")],
-        "outlier_threshold": [Interval(Real, 0, None, closed="neither"), None],
+        "outlier_threshold": [Interval(Real, 0, 1, closed="neither"), None],
         "random_state": ["random_state"],
     }
 
@@ -118,6 +128,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         n_clusters=2,
         *,
         init="auto",
+        selection="coding_length",
         subspace_dim=4,
         smoothing=3.0,
         n_neighbors=10,
@@ -128,6 +139,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     ):
         self.n_clusters = n_clusters
         self.init = init
+        self.selection = selection
         self.subspace_dim = subspace_dim
         self.smoothing = smoothing
         self.n_neighbors = n_neighbors
@@ -165,6 +177,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             X,
             self.n_clusters,
             init=self.init,
+            selection=self.selection,
             subspace_dim=self.subspace_dim,
             smoothing=self.smoothing,
             n_neighbors=self.n_neighbors,
@@ -177,6 +190,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.labels_ = labels
         self.candidates_ = list(info.candidates)
         self.coding_lengths_ = np.asarray(info.get("coding_lengths", []), dtype=float)
+        self.ambiguity_ = np.asarray(info.get("ambiguity", []), dtype=float)
         self.chosen_ = self.candidates_[info.chosen] if info.chosen >= 0 else "trivial"
         self.noise_ = float(info.get("noise", np.nan))
         self.n_iter_ = int(info.n_iters[info.chosen]) if info.chosen >= 0 else 0

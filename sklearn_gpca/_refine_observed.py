@@ -26,8 +26,11 @@ from sklearn_gpca._observed_subspaces import (
     fit_observed_subspace,
     subspace_residuals,
 )
+from sklearn_gpca._outliers import TEST_DIM, outlier_pvalues
 
 _TINY = np.finfo(np.float64).tiny
+#: Most rounds of outlier test and refinement without the flagged tracks.
+OUTLIER_ROUNDS = 3
 
 
 def neighbor_disagreements(labels, neighbors, n_clusters, weights=None):
@@ -140,6 +143,58 @@ def misfit_ratios(residuals, dofs, labels):
     return ratios
 
 
+def _refine(
+    X0,
+    mask,
+    labels,
+    n_clusters,
+    *,
+    neighbors,
+    smoothing,
+    dims,
+    neighbor_weights,
+    per_cluster,
+    max_iter,
+    excluded,
+    random_state,
+):
+    """Smoothed K-subspaces; ``excluded`` tracks are labelled but fit nothing."""
+    labels = np.asarray(labels, dtype=np.intp).copy()
+    n_samples = X0.shape[0]
+    bases = [None] * n_clusters
+    supports = [None] * n_clusters
+    previous = None
+    converged = False
+    n_iter = 0
+    while n_iter < max_iter:
+        n_iter += 1
+        for k in range(n_clusters):
+            members = np.flatnonzero((labels == k) & ~excluded)
+            if members.size <= dims[k]:
+                members = random_state.choice(n_samples, dims[k] + 1, replace=False)
+            init = bases[k]
+            bases[k], supports[k] = fit_observed_subspace(
+                X0[members],
+                mask[members],
+                int(dims[k]),
+                init=init,
+                max_iter=5 if init is not None else 30,
+            )
+        residuals, dofs = subspace_residuals(X0, mask, bases, supports)
+        marked = np.where(excluded, -1, labels)
+        costs = assignment_costs(residuals, dofs, marked, per_cluster=per_cluster)
+        if smoothing > 0:
+            costs = costs + smoothing * neighbor_disagreements(
+                labels, neighbors, n_clusters, neighbor_weights
+            )
+        new_labels = np.argmin(costs, axis=1).astype(np.intp)
+        if np.array_equal(new_labels, labels) or np.array_equal(new_labels, previous):
+            converged = True
+            break
+        previous, labels = labels, new_labels
+    return labels, bases, supports, n_iter, converged
+
+
 def refine_observed(
     X0,
     mask,
@@ -182,13 +237,15 @@ def refine_observed(
         One misfit scale per cluster in the data term (see
         :func:`assignment_costs`).
     max_iter : int, default=30
-        Maximum number of fit / assign rounds.
-    outlier_threshold : float > 0 or None, default=None
-        Tracks whose residual per degree of freedom to every motion exceeds
-        ``outlier_threshold`` times that motion's median
-        (:func:`misfit_ratios`) are labelled ``-1`` and left out of the
-        subspace fits and the scales of the next round. None labels every
-        track with a motion.
+        Maximum number of fit / assign rounds of each refinement.
+    outlier_threshold : float in (0, 1) or None, default=None
+        False-alarm probability of the outlier test
+        (:func:`sklearn_gpca._outliers.outlier_pvalues`): after the
+        refinement, the tracks whose p-value is below it are labelled ``-1``
+        and the refinement is run again from its labels with them left out
+        of the subspace fits and the scales, until the flagged set settles
+        (at most ``OUTLIER_ROUNDS`` times). None labels every track with a
+        motion.
     random_state : RandomState instance
         Reseeds a cluster too small to fit its subspace.
 
@@ -199,47 +256,39 @@ def refine_observed(
     bases : list of ndarray of shape (n_features, d_k)
     supports : list of ndarray of shape (n_features,), dtype=bool
     n_iter : int
+        Rounds of all the refinements.
     converged : bool
-        Whether the labels settled (or alternated between two labellings).
+        Whether the labels of the last refinement settled (or alternated
+        between two labellings).
     """
-    labels = np.asarray(labels, dtype=np.intp).copy()
-    n_samples = X0.shape[0]
-    outliers = np.zeros(n_samples, dtype=bool)
     dims = np.broadcast_to(np.asarray(subspace_dim, dtype=np.intp), (n_clusters,))
-    bases = [None] * n_clusters
-    supports = [None] * n_clusters
-    previous = None
-    converged = False
-    n_iter = 0
-    while n_iter < max_iter:
-        n_iter += 1
-        for k in range(n_clusters):
-            members = np.flatnonzero((labels == k) & ~outliers)
-            if members.size <= dims[k]:
-                members = random_state.choice(n_samples, dims[k] + 1, replace=False)
-            init = bases[k]
-            bases[k], supports[k] = fit_observed_subspace(
-                X0[members],
-                mask[members],
-                int(dims[k]),
-                init=init,
-                max_iter=5 if init is not None else 30,
-            )
-        residuals, dofs = subspace_residuals(X0, mask, bases, supports)
-        marked = np.where(outliers, -1, labels)
-        costs = assignment_costs(residuals, dofs, marked, per_cluster=per_cluster)
-        if smoothing > 0:
-            costs = costs + smoothing * neighbor_disagreements(
-                labels, neighbors, n_clusters, neighbor_weights
-            )
-        new_labels = np.argmin(costs, axis=1).astype(np.intp)
-        new_outliers = outliers
-        if outlier_threshold is not None:
-            new_outliers = misfit_ratios(residuals, dofs, marked) > outlier_threshold
-        if np.array_equal(new_outliers, outliers) and (
-            np.array_equal(new_labels, labels) or np.array_equal(new_labels, previous)
-        ):
-            converged = True
+    excluded = np.zeros(X0.shape[0], dtype=bool)
+    kwargs = dict(
+        neighbors=neighbors,
+        smoothing=smoothing,
+        dims=dims,
+        neighbor_weights=neighbor_weights,
+        per_cluster=per_cluster,
+        max_iter=max_iter,
+        random_state=random_state,
+    )
+    labels, bases, supports, n_iter, converged = _refine(
+        X0, mask, labels, n_clusters, excluded=excluded, **kwargs
+    )
+    if outlier_threshold is None:
+        return labels, bases, supports, n_iter, converged
+    test_dim = max(TEST_DIM, int(dims.max()))
+    for _ in range(OUTLIER_ROUNDS):
+        marked = np.where(excluded, -1, labels)
+        pvalues = outlier_pvalues(
+            X0, mask, marked, n_clusters, dim=test_dim, min_dim=int(dims.min())
+        )
+        flagged = pvalues < outlier_threshold
+        if np.array_equal(flagged, excluded):
             break
-        previous, labels, outliers = labels, new_labels, new_outliers
-    return np.where(outliers, -1, labels), bases, supports, n_iter, converged
+        excluded = flagged
+        labels, bases, supports, rounds, converged = _refine(
+            X0, mask, labels, n_clusters, excluded=excluded, **kwargs
+        )
+        n_iter += rounds
+    return np.where(excluded, -1, labels), bases, supports, n_iter, converged

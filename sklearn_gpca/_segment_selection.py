@@ -1,10 +1,21 @@
-"""Criteria to choose among candidate segmentations of the same tracks."""
+"""Criteria to choose among candidate segmentations of the same tracks.
+
+- :func:`coding_length`: the lossy coding length of the segmented tracks;
+- :func:`ambiguous_fraction`: the share of tracks that another motion fits
+  nearly as well as their own (how separable the segmentation's motions are);
+- :func:`select_candidate`: the rule of
+  :func:`sklearn_gpca.segment_motions` (``selection``) that combines them.
+"""
 
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
 
-from sklearn_gpca._observed_subspaces import comoment_matrix
+from sklearn_gpca._observed_subspaces import (
+    comoment_matrix,
+    fit_observed_subspace,
+    subspace_residuals,
+)
 
 
 def coding_length(X0, labels, noise, mask=None):
@@ -55,3 +66,104 @@ def coding_length(X0, labels, noise, mask=None):
         )
         bits -= size * np.log2(size / n_samples)
     return float(bits)
+
+
+def ambiguous_fraction(X0, mask, labels, noise, *, subspace_dim=4, ratio=2.0):
+    """Share of tracks that another motion fits nearly as well as their own.
+
+    Each group of ``labels`` gets its ``subspace_dim``-dimensional subspace,
+    fitted on its tracks' observed entries (:func:`fit_observed_subspace`);
+    ``rho_pk`` is track ``p``'s residual to subspace ``k`` per residual degree
+    of freedom. A track is ambiguous when
+
+        rho_{p,other} + noise < ratio * (rho_{p,own} + noise)
+
+    with ``other`` the best subspace but its own: the segmentation leaves it
+    no clearer in one motion than in another. A segmentation that cuts one
+    motion in two leaves the tracks of both halves ambiguous (the halves span
+    the same subspace), one that puts two motions in one group leaves those
+    tracks far from their own subspace; the true segmentation of separable
+    motions leaves few (``benchmarks/results/segment_tracks.md`` measures how
+    well this ranks candidates). Tracks without a residual degree of freedom
+    in some subspace (too few observed coordinates) are not counted.
+
+    Parameters
+    ----------
+    X0 : ndarray of shape (n_samples, n_features)
+        Tracks, zero where missing.
+    mask : ndarray of shape (n_samples, n_features), dtype=bool
+        Observed entries.
+    labels : ndarray of shape (n_samples,)
+        Non-negative group of each track; at least two groups.
+    noise : float
+        Noise variance per coordinate, ``>= 0``: residuals below it are
+        not told apart.
+    subspace_dim : int, default=4
+        Dimension of every group's subspace.
+    ratio : float, default=2.0
+        How much better the own subspace must fit, ``> 1``.
+
+    Returns
+    -------
+    fraction : float
+        In ``[0, 1]``; 0 when no track can be tested.
+    """
+    groups, index = np.unique(labels, return_inverse=True)
+    if groups.size < 2:
+        raise ValueError(
+            f"ambiguous_fraction needs at least two groups, got {groups.size}."
+        )
+    fits = [
+        fit_observed_subspace(X0[index == g], mask[index == g], subspace_dim)
+        for g in range(groups.size)
+    ]
+    residuals, dofs = subspace_residuals(
+        X0, mask, [b for b, _ in fits], [s for _, s in fits]
+    )
+    rows = np.arange(labels.size)
+    per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+    own = per_dof[rows, index]
+    per_dof[rows, index] = np.inf
+    other = per_dof.min(axis=1)
+    testable = np.isfinite(own) & np.isfinite(other)
+    if not testable.any():
+        return 0.0
+    ambiguous = other[testable] + noise < ratio * (own[testable] + noise)
+    return float(np.mean(ambiguous))
+
+
+def select_candidate(coding_lengths, ambiguity, *, selection, tolerance=0.02):
+    """Index of the segmentation kept among refined candidates.
+
+    Parameters
+    ----------
+    coding_lengths : array-like of shape (n_candidates,)
+        :func:`coding_length` of each candidate.
+    ambiguity : array-like of shape (n_candidates,)
+        :func:`ambiguous_fraction` of each candidate.
+    selection : {"coding_length", "separability"}
+        ``"coding_length"``: the shortest coding length. ``"separability"``:
+        the shortest coding length among the candidates whose ambiguous
+        fraction is within ``tolerance`` of the smallest.
+    tolerance : float, default=0.02
+        Slack on the ambiguous fraction (a share of the tracks).
+
+    Returns
+    -------
+    chosen : int
+    """
+    coding_lengths = np.asarray(coding_lengths, dtype=float)
+    ambiguity = np.asarray(ambiguity, dtype=float)
+    if coding_lengths.shape != ambiguity.shape or coding_lengths.size == 0:
+        raise ValueError(
+            "coding_lengths and ambiguity must be non-empty and of one shape, got "
+            f"{coding_lengths.shape} and {ambiguity.shape}."
+        )
+    if selection == "coding_length":
+        return int(np.argmin(coding_lengths))
+    if selection != "separability":
+        raise ValueError(
+            f"selection must be 'coding_length' or 'separability', got {selection!r}."
+        )
+    eligible = ambiguity <= ambiguity.min() + tolerance
+    return int(np.argmin(np.where(eligible, coding_lengths, np.inf)))

@@ -21,6 +21,12 @@ from sklearn.cluster import KMeans
 from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._memory import chunk_rows
 from sklearn_gpca._rows import TINY, unit_rows
+from sklearn_gpca._threads import one_thread
+
+# k-means runs on a few thousand rows of a few eigenvectors, dozens of times
+# per fit: one OpenMP thread is faster than the default pool, ten times so on
+# a busy machine (benchmarks/results/occlusion.md, measured both ways).
+LIMIT_KMEANS_THREADS = True
 
 
 def normal_subspace_features(normals):
@@ -151,11 +157,18 @@ def embedding_kmeans(vectors, n_clusters, *, n_init, random_state):
     Returns
     -------
     labels : ndarray of shape (n_samples,), dtype=intp
+
+    Notes
+    -----
+    k-means runs with one OpenMP thread (``LIMIT_KMEANS_THREADS``).
     """
     if n_clusters == 1:
         return np.zeros(vectors.shape[0], dtype=np.intp)
     kmeans = KMeans(n_clusters=n_clusters, n_init=n_init, random_state=random_state)
-    return kmeans.fit_predict(unit_rows(vectors)).astype(np.intp)
+    if not LIMIT_KMEANS_THREADS:
+        return kmeans.fit_predict(unit_rows(vectors)).astype(np.intp)
+    with one_thread("openmp"):
+        return kmeans.fit_predict(unit_rows(vectors)).astype(np.intp)
 
 
 def spectral_clustering_lowrank(features, n_clusters, *, n_init=10, random_state=None):

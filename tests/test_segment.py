@@ -300,7 +300,7 @@ def test_segment_motions_flags_outliers(seed):
     X, y = _with_outliers(seed=seed)
     plain = segment_motions(X, 2, random_state=0)
     assert plain.min() == 0  # no -1 unless asked
-    labels = segment_motions(X, 2, outlier_threshold=20.0, random_state=0)
+    labels = segment_motions(X, 2, outlier_threshold=1e-3, random_state=0)
     flagged, outliers = labels == -1, y == -1
     assert np.sum(flagged & outliers) >= 0.9 * outliers.sum()
     assert np.sum(flagged & outliers) >= 0.9 * flagged.sum()
@@ -311,7 +311,7 @@ def test_segment_motions_flags_outliers(seed):
 def test_segment_motions_one_motion_with_outliers():
     X, y = _with_outliers()
     X, y = X[y != 1], y[y != 1]
-    labels = segment_motions(X, 1, outlier_threshold=20.0, random_state=0)
+    labels = segment_motions(X, 1, outlier_threshold=1e-3, random_state=0)
     assert set(labels) <= {-1, 0}
     assert np.array_equal(labels == -1, y == -1)
     assert np.all(segment_motions(X, 1, random_state=0) == 0)

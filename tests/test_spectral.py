@@ -8,8 +8,11 @@ from numpy.testing import assert_allclose
 from scipy.linalg import eigh
 from sklearn.cluster import KMeans, SpectralClustering
 from sklearn.metrics import adjusted_rand_score
+from threadpoolctl import threadpool_info, threadpool_limits
 
+from sklearn_gpca import _spectral
 from sklearn_gpca._spectral import (
+    embedding_kmeans,
     lowrank_eigenvectors,
     normal_subspace_features,
     spectral_clustering_lowrank,
@@ -107,3 +110,27 @@ def test_more_clusters_than_rank():
     assert spectral_embedding_lowrank(phi, 4).shape == (20, 3)
     labels = spectral_clustering_lowrank(phi, 4, random_state=0)
     assert adjusted_rand_score(labels, np.repeat(np.arange(4), 5)) == 1.0
+
+
+def _openmp_threads():
+    return [i["num_threads"] for i in threadpool_info() if i["user_api"] == "openmp"]
+
+
+def test_kmeans_runs_with_one_openmp_thread(monkeypatch):
+    # k-means on a small embedding: one OpenMP thread, whatever the pool outside
+    if not _openmp_threads():
+        pytest.skip("no OpenMP runtime loaded")
+    seen = []
+
+    class RecordingKMeans(KMeans):
+        def fit_predict(self, X, y=None, sample_weight=None):
+            seen.extend(_openmp_threads())
+            return super().fit_predict(X)
+
+    monkeypatch.setattr(_spectral, "KMeans", RecordingKMeans)
+    vectors = np.repeat(np.eye(2), 5, axis=0)
+    with threadpool_limits(2, user_api="openmp"):
+        labels = embedding_kmeans(vectors, 2, n_init=2, random_state=0)
+        assert set(_openmp_threads()) == {2}  # restored afterwards
+    assert seen and set(seen) == {1}
+    assert adjusted_rand_score(np.repeat([0, 1], 5), labels) == 1.0

@@ -1,0 +1,182 @@
+"""K-subspaces in the full trajectory space after a segmentation, in linear time.
+
+The paper segments the trajectories after projecting them to :math:`R^5`
+(Vidal & Hartley, CVPR 2004, section 2.1). ``n`` generic rigid motions span
+``n`` subspaces of dimension 4 of :math:`R^{2F}` (eq. (6)), ``4 n`` dimensions
+in all: projected to :math:`R^5` they become hyperplanes that meet in 3-D
+subspaces, and every track close to an intersection is ambiguous there while
+it is not in :math:`R^{2F}`. This module starts from a segmentation (e.g. that of
+``make_pipeline(PowerFactorization(), GPCAClustering(n))``) and runs smoothed
+K-subspaces on the raw tracks, each track scored on its own observed entries
+(:func:`refine_observed`), with neighbours searched in the projected space:
+
+1. the rounds run on a uniform random subsample of at most
+   ``max_fit_samples`` tracks (a 4-D subspace of :math:`R^{2F}` is
+   determined to the noise level by a few thousand tracks);
+2. every other track is then assigned once by the same smoothed cost, with
+   its nearest subsample tracks as neighbours (as stage 6 of :func:`gpca`).
+
+Measured on ``make_motions(3, ..., n_frames=10, missing=0.1)`` draws
+(``benchmarks/results/scaling.md`` and its notes) it is not a uniform gain:
+it lowers the error of the default pipeline on some draws and raises it on
+others, so no estimator applies it by default. Without the smoothing term
+K-subspaces drifts from good starts where the motions are close.
+
+Time and memory are ``O(m D d^2 t + P D d^2 n)`` for ``m`` fitted tracks,
+``t`` rounds, ``P`` tracks of ``D = 2F`` coordinates and ``n`` subspaces of
+dimension ``d``: linear in ``P``.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+from sklearn.utils import check_random_state
+
+from sklearn_gpca._affinity import sign_invariant_neighbors
+from sklearn_gpca._extension import extension_neighbors
+from sklearn_gpca._observed_subspaces import observed_entries, subspace_residuals
+from sklearn_gpca._refine_observed import (
+    assignment_costs,
+    neighbor_disagreements,
+    refine_observed,
+)
+from sklearn_gpca._rows import unit_rows
+
+
+def _check_labels(labels, n_samples):
+    labels = np.asarray(labels)
+    if labels.shape != (n_samples,) or not np.issubdtype(labels.dtype, np.integer):
+        raise ValueError(
+            f"labels must be integers of shape ({n_samples},), one per row of "
+            f"X; got dtype {labels.dtype} and shape {labels.shape}."
+        )
+    if labels.size and labels.min() < -1:
+        raise ValueError(
+            f"labels must be 0 .. n_clusters - 1, or -1 for a track left "
+            f"out; got {labels.min()}."
+        )
+    return labels.astype(np.intp)
+
+
+def refine_full_space(
+    X,
+    labels,
+    points,
+    *,
+    subspace_dim=4,
+    smoothing=1.0,
+    n_neighbors=10,
+    max_iter=30,
+    max_fit_samples=5000,
+    random_state=None,
+):
+    """Smoothed K-subspaces on the observed entries of the tracks, from labels.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_features)
+        Tracks ``[x_1, y_1, ..., x_F, y_F]``, NaN where missing.
+    labels : ndarray of shape (n_samples,)
+        Starting segmentation, ``0 .. n_clusters - 1``; ``-1`` marks tracks
+        left out (outliers), which keep ``-1``.
+    points : ndarray of shape (n_samples, n_components)
+        Complete points in which the neighbours of the smoothing term are
+        searched (sign-invariant angles, as :class:`GPCAClustering`), e.g. the
+        tracks projected to :math:`R^5` by ``PowerFactorization``.
+    subspace_dim : int, default=4
+        Dimension of every motion subspace (4 for a generic rigid motion seen
+        by an affine camera), clipped to ``n_features - 1``.
+    smoothing : float, default=1.0
+        Cost of one neighbour with another label, in units of the typical
+        misfit of a track (see :func:`refine_observed`); 0 is plain
+        K-subspaces.
+    n_neighbors : int, default=10
+        Neighbours of the smoothing term.
+    max_iter : int, default=30
+        Maximum number of K-subspaces rounds on the subsample.
+    max_fit_samples : int or None, default=5000
+        Largest number of tracks the rounds run on (a uniform random
+        subsample); the others are then assigned once, with their nearest
+        subsample tracks as neighbours. None uses all tracks.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the subsample and the reseeding of an emptied cluster.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+        The refined segmentation.
+    bases : list of ndarray of shape (n_features, d)
+        Orthonormal bases of the fitted subspaces, one per label (zero rows on
+        coordinates too few tracks observe).
+    n_iter : int
+        Rounds run.
+    converged : bool
+        Whether the subsample's labels settled before ``max_iter``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca import PowerFactorization
+    >>> from sklearn_gpca.datasets import make_motions
+    >>> from sklearn_gpca.metrics import misclassification_rate
+    >>> from sklearn_gpca.stages import refine_full_space
+    >>> X, y = make_motions(3, n_points=600, n_frames=10, missing=0.1,
+    ...                     random_state=0)
+    >>> Z = PowerFactorization(random_state=0).fit_transform(X)
+    >>> start = np.where(np.arange(600) % 10 == 0, (y + 1) % 3, y)  # 10 % wrong
+    >>> labels, bases, n_iter, converged = refine_full_space(
+    ...     X, start, Z, random_state=0)
+    >>> float(misclassification_rate(y, labels)) < 0.02, converged
+    (True, True)
+    """
+    rng = check_random_state(random_state)
+    X0, mask = observed_entries(X)
+    n_samples, n_features = X0.shape
+    labels = _check_labels(labels, n_samples)
+    points = np.asarray(points, dtype=np.float64)
+    if points.shape[0] != n_samples:
+        raise ValueError(
+            f"points has {points.shape[0]} rows and X {n_samples}: they must "
+            "describe the same tracks."
+        )
+    n_clusters = int(labels.max()) + 1 if labels.size else 0
+    if n_clusters == 0:
+        return labels, [], 0, True
+    dim = max(min(subspace_dim, n_features - 1), 1)
+    unit = unit_rows(points)
+    kept = np.flatnonzero(labels >= 0)
+    sample = kept
+    if max_fit_samples is not None and kept.size > max_fit_samples:
+        sample = np.sort(rng.choice(kept, max_fit_samples, replace=False))
+    k = max(min(n_neighbors, sample.size - 1), 1)
+    sample_neighbors = sign_invariant_neighbors(unit[sample], k)
+    sample_labels, bases, supports, n_iter, converged = refine_observed(
+        X0[sample],
+        mask[sample],
+        labels[sample],
+        n_clusters,
+        neighbors=sample_neighbors,
+        smoothing=smoothing,
+        subspace_dim=dim,
+        per_cluster=False,
+        max_iter=max_iter,
+        random_state=rng,
+    )
+    refined = labels.copy()
+    refined[sample] = sample_labels
+    if sample.size < kept.size:
+        # one smoothed assignment of the other tracks, with their nearest
+        # subsample tracks as neighbours (stage 6 of gpca, in the full space)
+        local = np.searchsorted(kept, sample)
+        neighbors = extension_neighbors(unit[kept], local, sample_neighbors)
+        residuals, dofs = subspace_residuals(X0[kept], mask[kept], bases, supports)
+        scales_from = np.full(kept.size, -1)
+        scales_from[local] = sample_labels
+        costs = assignment_costs(residuals, dofs, scales_from, per_cluster=False)
+        costs += smoothing * neighbor_disagreements(
+            refined[kept], neighbors, n_clusters
+        )
+        others = np.ones(kept.size, dtype=bool)
+        others[local] = False
+        refined[kept[others]] = np.argmin(costs[others], axis=1)
+    return refined, bases, n_iter, converged

@@ -1,0 +1,82 @@
+"""Tests of the full-space K-subspaces step (``_full_space.py``)."""
+
+import numpy as np
+import pytest
+
+from sklearn_gpca import PowerFactorization
+from sklearn_gpca.datasets import make_motions
+from sklearn_gpca.metrics import misclassification_rate, oracle_labels
+from sklearn_gpca.stages import refine_full_space
+
+
+@pytest.fixture(scope="module")
+def motions():
+    # generic motions far apart in R^20: the full space separates them
+    X, y = make_motions(
+        3, n_points=900, n_frames=10, missing=0.1, min_angle=45, random_state=1
+    )
+    Z = PowerFactorization(random_state=0).fit_transform(X)
+    return X, y, Z
+
+
+def _corrupt(y, fraction, seed=0):
+    """Labels with ``fraction`` of the tracks moved to another motion."""
+    rng = np.random.RandomState(seed)
+    wrong = rng.rand(y.size) < fraction
+    return np.where(wrong, (y + 1 + rng.randint(2, size=y.size)) % 3, y)
+
+
+@pytest.mark.parametrize("max_fit_samples", [None, 300])
+def test_recovers_motions_from_a_noisy_start(motions, max_fit_samples):
+    X, y, Z = motions
+    start = _corrupt(y, 0.15)
+    labels, bases, n_iter, converged = refine_full_space(
+        X, start, Z, max_fit_samples=max_fit_samples, random_state=0
+    )
+    # derived truth: no worse than the nearest true subspace, plus 1 point
+    floor = misclassification_rate(y, oracle_labels(X, y))
+    assert misclassification_rate(y, labels) <= floor + 0.01
+    assert misclassification_rate(y, start) > 0.1
+    assert converged and n_iter >= 1
+    assert len(bases) == 3
+    for basis in bases:
+        assert basis.shape == (20, 4)
+        np.testing.assert_allclose(basis.T @ basis, np.eye(4), atol=1e-10)
+
+
+def test_outliers_keep_their_label(motions):
+    X, y, Z = motions
+    start = y.copy()
+    start[:50] = -1
+    labels, *_ = refine_full_space(X, start, Z, random_state=0)
+    assert np.all(labels[:50] == -1)
+    assert set(np.unique(labels[50:])) <= {0, 1, 2}
+
+
+def test_subspace_dim_is_clipped_to_the_width():
+    rng = np.random.RandomState(0)
+    X = rng.randn(40, 4)
+    _, bases, *_ = refine_full_space(
+        X, np.repeat([0, 1], 20), X, subspace_dim=8, random_state=0
+    )
+    assert [b.shape for b in bases] == [(4, 3), (4, 3)]
+
+
+@pytest.mark.parametrize(
+    "labels, match",
+    [
+        (np.zeros(5, dtype=int), "shape"),
+        (np.zeros(40), "integers"),
+        (np.full(40, -2), "-1"),
+    ],
+)
+def test_bad_labels(labels, match):
+    X = np.random.RandomState(0).randn(40, 6)
+    with pytest.raises(ValueError, match=match):
+        refine_full_space(X, labels, X)
+
+
+def test_points_of_other_tracks():
+    X = np.random.RandomState(0).randn(40, 6)
+    with pytest.raises(ValueError, match="same tracks"):
+        refine_full_space(X, np.zeros(40, dtype=int), X[:30])

@@ -1,0 +1,142 @@
+"""Tests for the criteria that choose among candidate segmentations."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+import pytest
+
+from sklearn_gpca import MotionSegmentation
+from sklearn_gpca._observed_subspaces import observed_entries
+from sklearn_gpca._segment import AMBIGUITY_TOLERANCE, segment_motions
+from sklearn_gpca._segment_selection import (
+    ambiguous_fraction,
+    coding_length,
+    select_candidate,
+)
+from sklearn_gpca.datasets import make_motions
+
+
+def _merged_split(y):
+    """Motions 1 and 2 merged, motion 0 cut in two halves: still 3 groups."""
+    wrong = np.where(y == 2, 1, y)
+    zeros = np.flatnonzero(y == 0)
+    wrong[zeros[::2]] = 2
+    return wrong
+
+
+def _subspaces(sizes=(120, 60, 60), n_frames=12, missing=0.0, seed=0):
+    """Tracks on random 4-D subspaces of R^{2F} (generic: far apart), unit
+    noise, a fraction ``missing`` of each track's frames unseen."""
+    rng = np.random.RandomState(seed)
+    blocks, labels = [], []
+    for k, size in enumerate(sizes):
+        basis = np.linalg.qr(rng.standard_normal((2 * n_frames, 4)))[0]
+        blocks.append(100.0 * rng.standard_normal((size, 4)) @ basis.T)
+        labels.append(np.full(size, k))
+    X = np.vstack(blocks) + rng.standard_normal((sum(sizes), 2 * n_frames))
+    unseen = rng.rand(X.shape[0], n_frames) < missing
+    X[np.repeat(unseen, 2, axis=1)] = np.nan
+    return X, np.concatenate(labels)
+
+
+@pytest.mark.parametrize("missing", [0.0, 0.3])
+@pytest.mark.parametrize("seed", range(3))
+def test_ambiguous_fraction_prefers_truth_to_merge_and_split(missing, seed):
+    X, y = _subspaces(missing=missing, seed=seed)
+    X0, mask = observed_entries(X)
+    truth = ambiguous_fraction(X0, mask, y, 1.0)
+    wrong = ambiguous_fraction(X0, mask, _merged_split(y), 1.0)
+    # the halves of motion 0 span one subspace: each of its tracks (half of
+    # the draw) fits the other half within noise, so nearly all of them are
+    # ambiguous; generic subspaces leave the true motions apart
+    assert truth < 0.02
+    assert wrong > 0.4
+    # the coding length agrees here (complete enough, generic subspaces)
+    assert coding_length(X0, y, 1.0, mask) < coding_length(
+        X0, _merged_split(y), 1.0, mask
+    )
+
+
+def test_ambiguous_fraction_counts_only_testable_tracks():
+    X, y = _subspaces()
+    wrong = _merged_split(y)
+    X0, mask = observed_entries(X)
+    n_ambiguous = ambiguous_fraction(X0, mask, wrong, 1.0) * y.size
+    # 20 tracks of the split motion (ambiguous: its halves span one subspace)
+    # seen in two frames: 4 coordinates leave no residual degree of freedom in
+    # 4-D, so they leave the count and the total
+    short = np.flatnonzero(y == 0)[:20]
+    X[short, 4:] = np.nan
+    X0, mask = observed_entries(X)
+    found = ambiguous_fraction(X0, mask, wrong, 1.0)
+    expected = (n_ambiguous - 20) / (y.size - 20)
+    assert found == pytest.approx(expected, abs=2 / y.size)
+    mask[:] = False
+    mask[:, :4] = True
+    assert ambiguous_fraction(X0 * mask, mask, wrong, 1.0) == 0.0
+
+
+def test_ambiguous_fraction_needs_two_groups():
+    X, _ = make_motions(2, n_points=[20, 20], n_frames=6, random_state=0)
+    X0, mask = observed_entries(X)
+    with pytest.raises(ValueError, match="at least two groups, got 1"):
+        ambiguous_fraction(X0, mask, np.zeros(40, dtype=int), 1.0)
+
+
+@pytest.mark.parametrize(
+    ("lengths", "ambiguity", "selection", "expected"),
+    [
+        ([3.0, 1.0, 2.0], [0.0, 0.5, 0.1], "coding_length", 1),
+        # candidate 1 is shortest but ambiguous; 0 and 2 are within 0.02
+        ([3.0, 1.0, 2.0], [0.0, 0.5, 0.01], "separability", 2),
+        ([3.0, 1.0, 2.0], [0.0, 0.5, 0.1], "separability", 0),
+        ([3.0, 1.0, 2.0], [0.2, 0.19, 0.2], "separability", 1),
+    ],
+)
+def test_select_candidate_rules(lengths, ambiguity, selection, expected):
+    assert select_candidate(lengths, ambiguity, selection=selection) == expected
+
+
+@pytest.mark.parametrize(
+    ("lengths", "ambiguity", "selection", "match"),
+    [
+        ([1.0, 2.0], [0.1], "separability", "one shape"),
+        ([], [], "separability", "non-empty"),
+        ([1.0], [0.1], "bits", "selection must be"),
+    ],
+)
+def test_select_candidate_bad_input(lengths, ambiguity, selection, match):
+    with pytest.raises(ValueError, match=match):
+        select_candidate(lengths, ambiguity, selection=selection)
+
+
+@pytest.mark.parametrize("selection", ["coding_length", "separability"])
+def test_segment_motions_selection_wiring(selection):
+    X, _ = make_motions(2, n_points=[80, 60], n_frames=10, missing=0.2, random_state=0)
+    labels, info = segment_motions(
+        X, 2, init="all", selection=selection, random_state=0, return_info=True
+    )
+    assert info.candidates == ["gpca", "fragments", "votes"]
+    assert info.ambiguity.shape == info.coding_lengths.shape == (3,)
+    assert np.all((info.ambiguity >= 0) & (info.ambiguity <= 1))
+    expected = select_candidate(
+        info.coding_lengths,
+        info.ambiguity,
+        selection=selection,
+        tolerance=AMBIGUITY_TOLERANCE,
+    )
+    assert info.chosen == expected
+    assert np.array_equal(labels, info.refined[expected])
+    # the function without info picks the same
+    plain = segment_motions(X, 2, init="all", selection=selection, random_state=0)
+    assert np.array_equal(plain, labels)
+
+
+def test_estimator_selection_and_ambiguity():
+    X, _ = make_motions(2, n_points=[60, 60], n_frames=8, random_state=0)
+    model = MotionSegmentation(2, selection="separability", random_state=0).fit(X)
+    assert model.ambiguity_.shape == (len(model.candidates_),)
+    with pytest.raises(ValueError, match="selection"):
+        MotionSegmentation(2, selection="bits").fit(X)
+    with pytest.raises(ValueError, match="selection"):
+        segment_motions(X, 2, selection="bits")
