@@ -12,6 +12,8 @@ from sklearn_gpca._ksubspaces import k_subspaces
 from sklearn_gpca._model_selection import (
     NClustersSearch,
     coding_length_cost,
+    distinct_coding_length_cost,
+    merge_ratio,
     select_n_clusters,
     sine_likelihood_cost,
 )
@@ -37,9 +39,11 @@ __all__ = [
     "ShapeInteractionClustering",
     "__version__",
     "coding_length_cost",
+    "distinct_coding_length_cost",
     "estimate_motions",
     "gpca",
     "k_subspaces",
+    "merge_ratio",
     "paper_pipeline",
     "power_factorization",
     "segment_motions",

@@ -607,17 +607,23 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         polynomial. ``"auto"`` (beyond the paper) fits every ``n`` from 1 to
         ``max_clusters`` and keeps the segmentation with the lowest
         ``criterion`` (:func:`select_n_clusters`); see ``n_clusters_`` and
-        ``n_clusters_costs_``.
+        ``n_clusters_costs_``. With the default criterion it is the shortest
+        coding length among the segmentations whose groups are distinct
+        hyperplanes (merge ratio at least 5, chosen on Hopkins155 and
+        synthetic draws); ``benchmarks/results/n_motions.md`` measures it.
     max_clusters : int, default=5
         Largest number of subspaces tried by ``n_clusters="auto"``; ignored
         otherwise. Values whose Veronese embedding needs more points than
         there are are skipped.
-    criterion : {"coding_length", "sine_likelihood"} or callable, \
-default="coding_length"
+    criterion : {"distinct_coding_length", "coding_length", \
+"sine_likelihood"} or callable, default="distinct_coding_length"
         The model-selection criterion of ``n_clusters="auto"`` and ``score``:
         ``criterion(points, labels) -> cost``, lower is better (see
-        :func:`select_n_clusters`). ``"coding_length"``:
-        :func:`coding_length_cost`; ``"sine_likelihood"``:
+        :func:`select_n_clusters`). ``"distinct_coding_length"``:
+        :func:`distinct_coding_length_cost`, the coding length, ``inf`` when
+        two groups are not distinct subspaces (:func:`merge_ratio` below 5);
+        ``"coding_length"``: :func:`coding_length_cost` alone, which prefers
+        too many groups on real motions; ``"sine_likelihood"``:
         :func:`sine_likelihood_cost`, which can also compare the ranks of a
         preceding projection on noise-free data.
     {parameters}
@@ -630,7 +636,8 @@ default="coding_length"
     n_clusters_costs_ : ndarray of shape (max_clusters,)
         With ``n_clusters="auto"`` only: the ``criterion`` (lower is better;
         bits for the coding length) of the segmentation into ``n = 1 ..
-        max_clusters`` subspaces; ``inf`` where skipped for lack of points.
+        max_clusters`` subspaces; ``inf`` where skipped for lack of points,
+        and, with the default criterion, where two groups are not distinct.
     labels_ : ndarray of shape (n_samples,), dtype=intp
         Subspace label of each training point, in ``0 .. n_clusters_ - 1``;
         all-zero rows get 0.
@@ -824,7 +831,7 @@ default="coding_length"
         n_clusters=2,
         *,
         max_clusters=5,
-        criterion="coding_length",
+        criterion="distinct_coding_length",
         normalize=True,
         point_normals="local",
         affinity="nearest_neighbors",
@@ -999,14 +1006,18 @@ default="coding_length"
         """Minus the ``criterion`` per point of `X` segmented by ``predict``.
 
         Higher is better. The criterion of ``n_clusters="auto"``, divided by
-        the number of points; by default :func:`coding_length_cost`, the bits
-        needed to code the unit points of `X` up to a distortion of 0.03 when
-        each group that ``predict`` forms is coded by its own Gaussian, plus
-        the group memberships. Too few subspaces merge groups into a costlier
-        one; too many split a group and pay for the memberships: on a union
-        of ``n`` subspaces the score peaks at ``n_clusters = n``, and
-        ``GridSearchCV`` over ``n_clusters`` chooses by the same criterion as
-        ``n_clusters="auto"``.
+        the number of points; by default :func:`distinct_coding_length_cost`,
+        the bits needed to code the unit points of `X` up to a distortion of
+        0.03 when each group that ``predict`` forms is coded by its own
+        Gaussian, plus the group memberships, and ``-inf`` when two of these
+        groups lie on one hyperplane (:func:`merge_ratio` below 5). Too few
+        subspaces merge groups into a costlier one; too many split a group
+        into pieces that are not distinct subspaces: on a union of ``n``
+        subspaces the score peaks at ``n_clusters = n``, and ``GridSearchCV``
+        over ``n_clusters`` chooses by the same criterion as
+        ``n_clusters="auto"`` (it warns that some test scores are
+        non-finite). The coding length of a few points per group favours
+        fewer groups: held-out folds need tens of points per subspace.
 
         Parameters
         ----------
