@@ -469,10 +469,10 @@ class _FitThenPredict(BaseEstimator):
         return (np.asarray(X)[:, 0] > 0).astype(int)
 
 
-@pytest.mark.parametrize("estimator", [_FitPredictOnly(), _FitThenPredict()])
-def test_trajectory_display_unfitted_estimator_routes(estimator):
+@pytest.mark.parametrize("estimator_class", [_FitPredictOnly, _FitThenPredict])
+def test_trajectory_display_unfitted_estimator_routes(estimator_class):
     X = np.array([[-1.0, 0, 0, 1], [2, 0, 1, 1], [-3, 1, 1, 0], [4, 1, 0, 0]])
-    display = TrajectoryDisplay.from_estimator(estimator, X)
+    display = TrajectoryDisplay.from_estimator(estimator_class(), X)
     np.testing.assert_array_equal(display.labels, [0, 1, 0, 1])
 
 
