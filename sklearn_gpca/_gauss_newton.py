@@ -51,7 +51,9 @@ class GaussNewtonMatrix:
     ``P_i = diag(m_i) - diag(m_i) V G_i^{-1} V^T diag(m_i)``. Its Ruhe-Wedin
     (RW2) Jacobian with respect to ``V`` is ``-P_i (u_i^T kron I)``, so
 
-    ``J^T J = sum_i (u_i u_i^T) kron P_i``, ``-J^T e = E^T U``.
+    ``J^T J = sum_i (u_i u_i^T) kron P_i``
+
+    (the gradient ``-J^T e = E^T U`` is cheap and formed by the solver).
 
     The identity part of ``P_i`` gives the block diagonal
     ``sum_i m_ij u_i u_i^T``; the other part is nonzero only for pairs
@@ -104,9 +106,9 @@ class GaussNewtonMatrix:
             self.cache[k] = result
         return result
 
-    def normal_equations(self, X0, V, U, inv_gram):
-        """``J^T J`` indexed by ``j * r + k`` for ``V[j, k]``, and ``-J^T e``."""
-        n_samples, n_features = X0.shape
+    def assemble(self, V, U, inv_gram):
+        """``J^T J`` indexed by ``j * r + k`` for ``V[j, k]``."""
+        n_samples, n_features = self.mask.shape
         r = self.r
         UU = (U[:, :, None] * U[:, None, :]).reshape(n_samples, r * r)
         if self.sparse:
@@ -143,12 +145,8 @@ class GaussNewtonMatrix:
                 )
         idx = np.arange(n_features)
         hessian4[idx, idx] += self.mask.T @ UU
-        hessian = (
+        return (
             hessian4.reshape(n_features, n_features, r, r)
             .transpose(0, 2, 1, 3)
             .reshape(n_features * r, n_features * r)
         )
-        residual = X0 - U @ V.T
-        residual *= self.mask
-        gradient = residual.T @ U
-        return hessian, gradient
