@@ -18,20 +18,21 @@ from sklearn.utils.validation import check_is_fitted, validate_data
 
 from sklearn_gpca._factorization import factorise, project
 from sklearn_gpca._missing import describe_indices, masked_to_nan
+from sklearn_gpca._validation import Count
 
 _PARAMETERS = {
-    "n_components": [Interval(Integral, 1, None, closed="left")],
+    "n_components": [Count(1, None, closed="left")],
     "whiten": ["boolean"],
     "solver": [StrOptions({"varpro", "als"})],
     "completion_rank": [
-        Interval(Integral, 1, None, closed="left"),
+        Count(1, None, closed="left"),
         StrOptions({"auto"}),
         None,
     ],
-    "n_init": [Interval(Integral, 1, None, closed="left")],
-    "max_iter": [Interval(Integral, 1, None, closed="left")],
+    "n_init": [Count(1, None, closed="left")],
+    "max_iter": [Count(1, None, closed="left")],
     "tol": [Interval(Real, 0, None, closed="left")],
-    "max_init_samples": [Interval(Integral, 1, None, closed="left"), None],
+    "max_init_samples": [Count(1, None, closed="left"), None],
     "random_state": ["random_state"],
     "verbose": ["verbose"],
 }
@@ -144,7 +145,7 @@ def power_factorization(
     X = check_array(
         masked_to_nan(X), dtype=[np.float64, np.float32], ensure_all_finite="allow-nan"
     )
-    _check_params_vs_input(X, n_components, completion_rank, n_init, max_iter)
+    _check_params_vs_input(X, n_components, completion_rank)
     fit = factorise(
         X,
         n_components,
@@ -444,9 +445,7 @@ class PowerFactorization(
             Fitted estimator.
         """
         X = self._validate(X, reset=True)
-        _check_params_vs_input(
-            X, self.n_components, self.completion_rank, self.n_init, self.max_iter
-        )
+        _check_params_vs_input(X, self.n_components, self.completion_rank)
         fit = factorise(
             X,
             self.n_components,
@@ -536,19 +535,8 @@ class PowerFactorization(
         )
 
 
-def _check_params_vs_input(X, n_components, completion_rank, n_init, max_iter):
+def _check_params_vs_input(X, n_components, completion_rank):
     """Checks of the parameters that param validation cannot make."""
-    for name, value in [
-        ("n_components", n_components),
-        ("completion_rank", completion_rank),
-        ("n_init", n_init),
-        ("max_iter", max_iter),
-    ]:
-        if isinstance(value, (bool, np.bool_)):
-            raise ValueError(
-                f"The {name!r} parameter of PowerFactorization must be an int, "
-                f"not a bool; got {value!r}."
-            )
     n_samples, n_features = X.shape
     for name, value in [
         ("n_components", n_components),

@@ -224,3 +224,40 @@ def test_scorer_with_noise_ignore():
     est = _NearestCentreClusterer(1.0).fit(X)  # predicts 0, 0, 0, 1, 1
     assert scorer(est, X, y) == 0.0
     assert_allclose(misclassification_scorer(est, X, y), -1 / 5)
+
+
+# --- oracle_labels: what mutation testing found unchecked ------------------
+
+
+def test_oracle_reads_masked_entries_as_missing():
+    from sklearn_gpca.datasets import make_motions
+    from sklearn_gpca.metrics import oracle_labels
+
+    X, y = make_motions(2, n_points=[30, 30], n_frames=6, missing=0.3, random_state=0)
+    masked = np.ma.masked_invalid(X)
+    masked.data[masked.mask] = 1e6  # what lies under the mask must not count
+    np.testing.assert_array_equal(oracle_labels(masked, y), oracle_labels(X, y))
+    assert misclassification_rate(y, oracle_labels(masked, y)) == 0.0
+
+
+@pytest.mark.parametrize(
+    ("X", "y", "message"),
+    [
+        (
+            np.zeros((5, 4)),
+            np.zeros(4),
+            r"^y_true must be 1-D with one label per row of X \(5\), got shape "
+            r"\(4,\)\.$",
+        ),
+        (
+            np.full((5, 4), np.inf),
+            np.zeros(5),
+            r"^X contains infinite values; use NaN for missing entries\.$",
+        ),
+    ],
+)
+def test_oracle_messages(X, y, message):
+    from sklearn_gpca.metrics import oracle_labels
+
+    with pytest.raises(ValueError, match=message):
+        oracle_labels(X, y)

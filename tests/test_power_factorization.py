@@ -9,7 +9,7 @@ from numpy.testing import assert_allclose, assert_array_equal
 from scipy.linalg import subspace_angles
 from sklearn.exceptions import ConvergenceWarning
 
-from sklearn_gpca import PowerFactorization
+from sklearn_gpca import PowerFactorization, power_factorization
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
@@ -207,10 +207,20 @@ def test_coordinates_are_invariant_to_the_units(exponent, missing):
     assert_allclose(Z, reference, atol=1e-8)
 
 
-@pytest.mark.parametrize("name", ["n_components", "completion_rank", "n_init"])
-def test_boolean_integer_parameters_are_a_clear_error(name):
-    with pytest.raises(ValueError, match=f"'{name}' parameter .* not a bool"):
-        PowerFactorization(**{name: True}).fit(low_rank())
+@pytest.mark.parametrize(
+    "name",
+    ["n_components", "completion_rank", "n_init", "max_iter", "max_init_samples"],
+)
+@pytest.mark.parametrize("fit", ["estimator", "function"])
+def test_boolean_counts_are_refused_not_read_as_one(name, fit):
+    """``True`` is an int to Python; the ``Count`` constraint of the other
+    estimators refuses it with scikit-learn's message."""
+    message = f"'{name}' parameter of .* must be an int in the range.*Got True"
+    with pytest.raises(ValueError, match=message):
+        if fit == "estimator":
+            PowerFactorization(**{name: True}).fit(low_rank())
+        else:
+            power_factorization(low_rank(), **{name: True})
 
 
 @pytest.mark.parametrize("missing", [0.0, 0.2])

@@ -7,6 +7,7 @@ from numbers import Integral
 import numpy as np
 from sklearn.utils._param_validation import Interval, validate_params
 
+from sklearn_gpca._missing import masked_to_nan
 from sklearn_gpca._observed_subspaces import (
     fit_observed_subspace,
     observed_entries,
@@ -15,7 +16,7 @@ from sklearn_gpca._observed_subspaces import (
 
 
 def _check_oracle_input(X, y_true):
-    X = np.asarray(X, dtype=np.float64)
+    X = np.asarray(masked_to_nan(X), dtype=np.float64)
     y_true = np.asarray(y_true)
     if X.ndim != 2:
         raise ValueError(f"X must be 2-D, got an array of shape {X.shape}.")
@@ -51,8 +52,8 @@ def oracle_labels(X, y_true, subspace_dim=4):
 
     Parameters
     ----------
-    X : array-like of shape (n_samples, n_features)
-        Trajectories, NaN where missing.
+    X : array-like or masked array of shape (n_samples, n_features)
+        Trajectories, NaN (or masked) where missing.
     y_true : array-like of shape (n_samples,)
         True groups; ``-1`` marks outliers, which fit no subspace and keep
         ``-1`` (the oracle knows them).

@@ -5,6 +5,7 @@
 import numpy as np
 from sklearn.utils import check_array
 
+from sklearn_gpca._missing import masked_to_nan
 from sklearn_gpca.metrics._misclassification import noise_mask
 from sklearn_gpca.plotting._base import (
     NOISE_COLOR,
@@ -18,7 +19,7 @@ from sklearn_gpca.plotting._base import (
 
 
 def _check_trajectories(X):
-    X = check_array(X, dtype=np.float64, ensure_all_finite="allow-nan")
+    X = check_array(masked_to_nan(X), dtype=np.float64, ensure_all_finite="allow-nan")
     if X.shape[1] % 2:
         raise ValueError(
             f"X must have an even number of columns [x_1, y_1, ..., x_F, y_F], "
@@ -37,8 +38,8 @@ class TrajectoryDisplay:
 
     Parameters
     ----------
-    X : ndarray of shape (n_samples, 2 * n_frames)
-        Trajectories, one per row, NaN for missing entries.
+    X : ndarray or masked array of shape (n_samples, 2 * n_frames)
+        Trajectories, one per row, NaN (or masked) for missing entries.
     labels : ndarray of shape (n_samples,)
         Label of each trajectory; ``-1`` (noise, outlier trajectories) is
         drawn in grey as "outliers (-1)".
@@ -206,7 +207,7 @@ class TrajectoryDisplay:
         Parameters
         ----------
         X : array-like of shape (n_samples, 2 * n_frames)
-            Trajectories, NaN for missing entries.
+            Trajectories, NaN (or masked) for missing entries.
         labels : array-like of shape (n_samples,)
             Predicted (or true) label of each trajectory.
         y_true : array-like of shape (n_samples,), default=None
@@ -252,7 +253,7 @@ class TrajectoryDisplay:
             GPCAClustering(n))``. If it is not fitted its ``fit_predict(X)``
             gives the labels, else its ``predict(X)``.
         X : array-like of shape (n_samples, 2 * n_frames)
-            Trajectories, NaN for missing entries.
+            Trajectories, NaN (or masked) for missing entries.
         y_true : array-like of shape (n_samples,), default=None
             Ground truth, see :meth:`from_predictions`.
         ax : matplotlib Axes, default=None
