@@ -156,15 +156,15 @@ def main():
     for solver, summary in summaries.items():
         one = single.get(solver)
 
-        def both(key, one=one, summary=summary):
-            text = f"{summary[key]:.3f}"
-            return text if one is None else f"{text} ({one[key]:.3f})"
+        def both(key, digits=3, one=one, summary=summary):
+            text = f"{summary[key]:.{digits}f}"
+            return text if one is None else f"{text} ({one[key]:.{digits}f})"
 
         rows.append(
             [
                 "default (varpro)" if solver == "varpro" else solver,
                 str(len(sequences)),
-                f"{summary['mean_error']:.2f}",
+                both("mean_error", 2),
                 f"{summary['median_error']:.2f}",
                 both("seconds"),
                 both("cpu"),
@@ -186,14 +186,14 @@ def main():
         "seconds of the pipeline's `fit_predict` and of `PowerFactorization` "
         "alone (median over the sequences), CPU seconds of the pipeline, and "
         "the slowest pipeline; in brackets the same run in a child process "
-        "with `OMP_NUM_THREADS=1` (the errors are the same). Load average "
+        "with `OMP_NUM_THREADS=1`. Load average "
         f"(1 min) when the run started: {load:.1f} on {os.cpu_count()} cores.",
         "",
         *markdown_table(
             [
                 "PowerFactorization solver",
                 "sequences",
-                "mean error",
+                "mean error (OMP=1)",
                 "median error",
                 "median pipeline s (OMP=1)",
                 "median pipeline CPU s (OMP=1)",

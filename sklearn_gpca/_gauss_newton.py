@@ -14,7 +14,6 @@ import numpy as np
 from scipy import sparse
 
 from sklearn_gpca._chunks import row_chunks
-from sklearn_gpca._least_squares import masked_residual
 
 # Floats per temporary of shape (rows in a chunk, n_features, n_features) in
 # the dense accumulation of J^T J: 2**22 float64 are 32 MiB, whatever the
@@ -52,7 +51,9 @@ class GaussNewtonMatrix:
     ``P_i = diag(m_i) - diag(m_i) V G_i^{-1} V^T diag(m_i)``. Its Ruhe-Wedin
     (RW2) Jacobian with respect to ``V`` is ``-P_i (u_i^T kron I)``, so
 
-    ``J^T J = sum_i (u_i u_i^T) kron P_i``, ``-J^T e = E^T U``.
+    ``J^T J = sum_i (u_i u_i^T) kron P_i``
+
+    (the gradient ``-J^T e = E^T U`` is cheap and formed by the solver).
 
     The identity part of ``P_i`` gives the block diagonal
     ``sum_i m_ij u_i u_i^T``; the other part is nonzero only for pairs
@@ -105,9 +106,9 @@ class GaussNewtonMatrix:
             self.cache[k] = result
         return result
 
-    def normal_equations(self, X0, V, U, inv_gram):
-        """``J^T J`` indexed by ``j * r + k`` for ``V[j, k]``, and ``-J^T e``."""
-        n_samples, n_features = X0.shape
+    def assemble(self, V, U, inv_gram):
+        """``J^T J`` indexed by ``j * r + k`` for ``V[j, k]``."""
+        n_samples, n_features = self.mask.shape
         r = self.r
         UU = (U[:, :, None] * U[:, None, :]).reshape(n_samples, r * r)
         if self.sparse:
@@ -144,11 +145,8 @@ class GaussNewtonMatrix:
                 )
         idx = np.arange(n_features)
         hessian4[idx, idx] += self.mask.T @ UU
-        hessian = (
+        return (
             hessian4.reshape(n_features, n_features, r, r)
             .transpose(0, 2, 1, 3)
             .reshape(n_features * r, n_features * r)
         )
-        residual = masked_residual(X0, self.mask, U, V)
-        gradient = residual.T @ U
-        return hessian, gradient

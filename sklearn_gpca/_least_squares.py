@@ -7,6 +7,8 @@ exact fit is defined here too.
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import functools
+
 import numpy as np
 
 from sklearn_gpca._chunks import row_chunks
@@ -85,13 +87,23 @@ def row_grams(mask, basis):
     gram : ndarray of shape (n_rows, r, r)
     """
     r = basis.shape[0]
-    upper, lower = np.triu_indices(r)
+    upper, lower = _upper_triangle(r)
     # one product per pair k <= l: the matrices are symmetric
     sums = mask @ (basis[upper] * basis[lower]).T
     gram = np.empty((mask.shape[0], r, r))
     gram[:, upper, lower] = sums
     gram[:, lower, upper] = sums
     return gram
+
+
+@functools.cache
+def _upper_triangle(r):
+    """``np.triu_indices(r)``, computed once per ``r`` (it costs more than the
+    small products it indexes)."""
+    indices = np.triu_indices(r)
+    for index in indices:
+        index.flags.writeable = False
+    return indices
 
 
 def fit_rows(X0, mask, basis):

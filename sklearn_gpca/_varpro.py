@@ -223,7 +223,7 @@ class VarPro:
             self.log("conjugate gradients cost more than the dense system")
             self.dense = GaussNewtonMatrix(mask, r)
         if self.dense is not None:
-            hessian, _ = self.dense.normal_equations(self.X0, V, U, state.inv_gram)
+            hessian = self.dense.assemble(V, U, state.inv_gram)
             # gauge directions V K: J^T J vanishes there; (V V^T) kron I makes
             # the matrix definite without changing it on the tangent space
             hessian.reshape(n_features, r, n_features, r)[...] += scale * (
