@@ -25,8 +25,9 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     perspective and subspace hypotheses, as :class:`PerspectiveClustering`)
     are refined by smoothed
     K-subspaces on each track's observed entries in ``R^{2F}``, and one is
-    kept by ``selection`` (the shortest coding length, or the shortest among
-    the candidates leaving the fewest tracks ambiguous between two motions);
+    kept by ``selection`` (the shortest coding length among the candidates
+    leaving the fewest tracks ambiguous between two motions, or the shortest
+    coding length);
     optionally, tracks that fit no motion are labelled ``-1``. See
     :func:`segment_motions` for the stages and every parameter.
 
@@ -38,7 +39,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     init : {"auto", "all", "fragments", "gpca", "votes"}, default="auto"
         Candidate segmentations (see :func:`segment_motions`).
 
-    selection : {"coding_length", "separability"}, default="coding_length"
+    selection : {"separability", "coding_length"}, default="separability"
         How the refined candidate is kept (see :func:`segment_motions`).
 
     subspace_dim : int, default=4
@@ -128,7 +129,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         n_clusters=2,
         *,
         init="auto",
-        selection="coding_length",
+        selection="separability",
         subspace_dim=4,
         smoothing=3.0,
         n_neighbors=10,

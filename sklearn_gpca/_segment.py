@@ -22,9 +22,9 @@ sequence -- and returns one motion label per track. Beyond the paper
    observed entries (:mod:`sklearn_gpca._refine_observed`), which also labels
    the tracks too short to carry evidence from their neighbours;
 3. one refined candidate kept (:mod:`sklearn_gpca._segment_selection`): the
-   shortest coding length, or (``selection="separability"``) the shortest
-   among the candidates that leave the fewest tracks ambiguous between two
-   motions;
+   shortest coding length among the candidates that leave the fewest tracks
+   ambiguous between two motions (or, ``selection="coding_length"``, the
+   shortest coding length);
 4. optionally, tracks that fit no motion labelled ``-1``.
 
 :class:`sklearn_gpca.MotionSegmentation` is the estimator around it.
@@ -235,7 +235,7 @@ def segment_motions(
     n_motions,
     *,
     init="auto",
-    selection="coding_length",
+    selection="separability",
     subspace_dim=4,
     smoothing=3.0,
     n_neighbors=10,
@@ -266,18 +266,23 @@ def segment_motions(
         but the coding length picks it on 3-motion Hopkins155 sequences
         where it is worse (all 155: 2.40 % with it, 1.82 % without); see
         ``benchmarks/results/segment_*.md`` for every combination.
-    selection : {"coding_length", "separability"}, default="coding_length"
-        How the refined candidate is kept: the shortest coding length
-        (:func:`sklearn_gpca._segment_selection.coding_length`), or the
-        shortest among the candidates whose share of *ambiguous* tracks
+    selection : {"separability", "coding_length"}, default="separability"
+        How the refined candidate is kept: ``"separability"`` the shortest
+        coding length among the candidates whose share of *ambiguous* tracks
         (another motion's subspace fits them less than twice worse than
         their own, :func:`sklearn_gpca._segment_selection.ambiguous_fraction`)
-        is within ``AMBIGUITY_TOLERANCE`` (2 % of the tracks) of the least.
-        The coding length prefers segmentations that cut a perspective
-        background in two and merge two objects; ambiguity exposes them
-        (``make_tracks`` draws, ``init="all"``: 10 % against 17 %, see
-        ``segment_tracks.md``), but on Hopkins155 with occlusions it is
-        worse.
+        is within ``AMBIGUITY_TOLERANCE`` (2 % of the tracks, set on
+        ``make_tracks`` seeds 10-13 and every fifth Hopkins155 sequence) of
+        the least; ``"coding_length"`` the shortest coding length
+        (:func:`sklearn_gpca._segment_selection.coding_length`) alone. The
+        coding length prefers segmentations that cut a perspective
+        background in two and merge two objects; ambiguity exposes them.
+        With ``init="auto"``, ``"separability"`` against ``"coding_length"``:
+        ``make_tracks`` draws 17.7 % against 19.9 %, Hopkins155 1.57 %
+        against 1.82 %, its two-motion sequences with 30 % occlusion 1.34 %
+        against 2.08 % (``benchmarks/results/segment_*.md``). It is blind
+        to a motion that needs more than ``subspace_dim`` dimensions: cut
+        in two, neither half is ambiguous.
     subspace_dim : int, default=4
         Dimension of the motion subspaces of the refinement (4 for a rigid
         motion seen by an affine camera).
