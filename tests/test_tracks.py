@@ -16,7 +16,7 @@ from sklearn_gpca.datasets._track_lifetimes import (
     first_frame_share,
     geometric_lifetimes,
 )
-from sklearn_gpca.datasets._track_scenes import SCENES
+from sklearn_gpca.datasets._track_scenes import SCENES, make_scene
 
 SMALL = {"driving": 120, "handheld": 150, "lab": 100}
 
@@ -440,3 +440,80 @@ def test_switching_outliers_follow_their_two_motions():
             )
         checked[info.kind[p]] += 1
     assert min(checked.values()) >= 5
+
+
+def _largest_turn(rotations):
+    """Largest rotation angle (rad) between consecutive frames."""
+    rel = np.swapaxes(rotations[..., :-1, :, :], -1, -2) @ rotations[..., 1:, :, :]
+    cos = np.clip((np.trace(rel, axis1=-2, axis2=-1) - 1) / 2, -1, 1)
+    return float(np.arccos(cos).max())
+
+
+@pytest.mark.parametrize("scene", list(SCENES))
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("n_objects", [0, 3])
+def test_cameras_and_objects_turn_smoothly(scene, seed, n_objects):
+    """The footage is at 10-30 Hz (KITTI, FBMS, Hopkins155): a camera pan or
+    an object's yaw of 0.1 rad per frame (57 to 170 degrees a second) is no
+    longer the scene's motion. The draws stay well below (at most ~0.04).
+    Without objects the hand-held camera pans at its own rate."""
+    p = SCENES[scene]
+    world = make_scene(
+        scene,
+        60,
+        n_objects,
+        p["forward_speed"],
+        p["focal_length"],
+        p["image_size"],
+        p.get("depth_range"),
+        p["frame_rate"],
+        np.random.default_rng(seed),
+    )
+    assert _largest_turn(world.camera_rotations) < 0.1
+    if n_objects:
+        assert _largest_turn(world.object_rotations) < 0.1
+
+
+@pytest.mark.parametrize("last", [1, 4, 8])
+def test_birth_probabilities_stop_after_the_last_frame(last):
+    """Frames 0 .. last may be birth frames: frame 0 gets the first share, the
+    others equal parts of the rest (renormalised), later frames nothing."""
+    probs = birth_probabilities(10, 0.3, last=last)
+    expected = np.zeros(10)
+    expected[0] = 0.3
+    expected[1 : last + 1] = 0.7 / 9
+    assert_allclose(probs, expected / expected.sum())
+
+
+@pytest.mark.parametrize("mean_lifetime", [0.5, 1.0, 3.0, np.inf])
+def test_geometric_lifetimes_are_integers(mean_lifetime):
+    """Lifetimes count frames: int64 on every branch (a mean of at most one
+    frame gives lifetimes of exactly one frame)."""
+    lifetimes = geometric_lifetimes(np.array([0.1, 0.5, 1.0]), mean_lifetime)
+    assert lifetimes.dtype == np.int64
+    if mean_lifetime <= 1:
+        assert_array_equal(lifetimes, [1, 1, 1])
+
+
+@pytest.mark.parametrize("n_frames", [3, 4, 5, 6])
+@pytest.mark.parametrize("missing", [0.0, 0.2])
+def test_switching_outliers_are_seen_two_frames_each_side(n_frames, missing):
+    """Documented: drift and jump tracks are seen at least two frames each side
+    of their switch (so never on 3 frames), random walks at least three."""
+    _X, _y, info = make_tracks(
+        scene="handheld",
+        n_tracks=200,
+        n_frames=n_frames,
+        outlier_fraction=0.3,
+        missing=missing,
+        random_state=0,
+        return_info=True,
+    )
+    switching = np.isin(info.kind, ["drift", "jump"])
+    s, birth, end = info.switch_frame, info.birth, info.end
+    assert np.all(s[switching] - birth[switching] + 1 >= 2)
+    assert np.all(end[switching] - s[switching] - 1 >= 2)
+    walks = info.kind == "random_walk"
+    assert np.all(end[walks] - birth[walks] >= 3)
+    if n_frames == 3:
+        assert not switching.any()
