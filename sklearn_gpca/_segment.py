@@ -278,7 +278,7 @@ def segment_motions(
         coding length prefers segmentations that cut a perspective
         background in two and merge two objects; ambiguity exposes them.
         With ``init="auto"``, ``"separability"`` against ``"coding_length"``:
-        ``make_tracks`` draws 17.7 % against 19.9 %, Hopkins155 1.99 %
+        ``make_tracks`` draws 16.3 % against 18.8 %, Hopkins155 1.99 %
         against 2.09 %, its two-motion sequences with 30 % occlusion 1.34 %
         against 2.08 % (``benchmarks/results/segment_*.md``; a change of
         the fragments' eigensolver alone moved the Hopkins155 pair from
