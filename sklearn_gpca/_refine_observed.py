@@ -27,8 +27,8 @@ from sklearn_gpca._observed_subspaces import (
     subspace_residuals,
 )
 from sklearn_gpca._outliers import TEST_DIM, outlier_pvalues
+from sklearn_gpca._rows import TINY
 
-_TINY = np.finfo(np.float64).tiny
 #: Most rounds of outlier test and refinement without the flagged tracks.
 OUTLIER_ROUNDS = 3
 
@@ -91,13 +91,13 @@ def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=Tr
     own = per_dof[np.arange(n_samples), np.maximum(labels, 0)]
     usable = has & np.isfinite(own) & (labels >= 0)
     overall = float(np.median(own[usable])) if usable.any() else 1.0
-    overall = max(overall, _TINY)
+    overall = max(overall, TINY)
     scales = np.full(n_clusters, overall)
     if per_cluster:
         for k in range(n_clusters):
             mine = own[usable & (labels == k)]
             if mine.size >= 3:
-                scales[k] = max(float(np.median(mine)), _TINY)
+                scales[k] = max(float(np.median(mine)), TINY)
     weight = evidence / max(float(np.median(evidence[has])) if has.any() else 1.0, 1.0)
     costs = np.zeros_like(per_dof)
     costs[has] = weight[has, None] * (per_dof[has] / scales + np.log(scales / overall))
@@ -137,7 +137,7 @@ def misfit_ratios(residuals, dofs, labels):
         mine = per_dof[labels == k, k]
         mine = mine[np.isfinite(mine)]
         scales[k] = float(np.median(mine)) if mine.size >= 3 else fallback
-    ratios = np.where(testable, per_dof / np.maximum(scales, _TINY), np.inf)
+    ratios = np.where(testable, per_dof / np.maximum(scales, TINY), np.inf)
     ratios = ratios.min(axis=1)
     ratios[~testable.any(axis=1)] = 0.0
     return ratios
