@@ -50,6 +50,10 @@ from sklearn_gpca._model_selection import (
 from sklearn_gpca._normals import POINT_NORMALS, point_normal_bases
 from sklearn_gpca._polynomials import unit_gradients, vanishing_polynomials
 from sklearn_gpca._rows import canonical_sign, power_of_two_scale, unit_rows
+from sklearn_gpca._segmentation_space import (
+    fit_segmentation_space,
+    to_segmentation_space,
+)
 from sklearn_gpca._selection import select_candidate
 from sklearn_gpca._spectral import (
     normal_subspace_features,
@@ -607,19 +611,42 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         polynomial. ``"auto"`` (beyond the paper) fits every ``n`` from 1 to
         ``max_clusters`` and keeps the segmentation with the lowest
         ``criterion`` (:func:`select_n_clusters`); see ``n_clusters_`` and
-        ``n_clusters_costs_``. With the default criterion it is the shortest
-        coding length among the segmentations whose groups are distinct
-        hyperplanes (merge ratio at least 5, chosen on Hopkins155 and
-        synthetic draws); ``benchmarks/results/n_motions.md`` measures it.
+        ``n_clusters_costs_``. To count motions, give it the unwhitened
+        trajectories of rank ``4 * max_clusters`` and segment them in
+        :math:`R^5` with ``n_components=5``::
+
+            make_pipeline(PowerFactorization(20, whiten=False),
+                          GPCAClustering("auto", n_components=5))
+
+        The default criterion is then the coding length of the trajectories
+        in that wide projection (:func:`trajectory_coding_length_cost`);
+        without ``n_components`` it is the coding length of the segmented
+        points among the segmentations whose groups are distinct
+        hyperplanes (:func:`distinct_coding_length_cost`), which
+        under-counts. ``benchmarks/results/n_motions.md`` measures both.
     max_clusters : int, default=5
         Largest number of subspaces tried by ``n_clusters="auto"``; ignored
         otherwise. Values whose Veronese embedding needs more points than
         there are are skipped.
-    criterion : {"distinct_coding_length", "coding_length", \
-"sine_likelihood"} or callable, default="distinct_coding_length"
+    n_components : int or None, default=None
+        Segment the points in their ``n_components`` leading principal
+        directions (not centred), whitened: for complete trajectories, the
+        coordinates of ``PowerFactorization(n_components)``. The polynomial,
+        the normals, the subspaces, the reference points and ``predict``
+        work there; ``n_clusters="auto"`` and ``score`` judge the
+        segmentation on the input points. None segments the input as it is.
+        At least 2, at most ``min(n_samples, n_features)``.
+    criterion : {"auto", "trajectory_coding_length", \
+"distinct_coding_length", "coding_length", "sine_likelihood"} or callable, \
+default="auto"
         The model-selection criterion of ``n_clusters="auto"`` and ``score``:
-        ``criterion(points, labels) -> cost``, lower is better (see
-        :func:`select_n_clusters`). ``"distinct_coding_length"``:
+        ``criterion(points, labels) -> cost`` on the input points, lower is
+        better (see :func:`select_n_clusters`). ``"auto"``:
+        ``"trajectory_coding_length"`` with ``n_components``,
+        ``"distinct_coding_length"`` without. ``"trajectory_coding_length"``:
+        :func:`trajectory_coding_length_cost`, the coding length of unit
+        trajectories in a wide unwhitened projection.
+        ``"distinct_coding_length"``:
         :func:`distinct_coding_length_cost`, the coding length, ``inf`` when
         two groups are not distinct subspaces (:func:`merge_ratio` below 5);
         ``"coding_length"``: :func:`coding_length_cost` alone, which prefers
@@ -701,6 +728,14 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Exponents of the monomials of degree ``n_clusters_``; ``n_monomials =
         C(n_clusters_ + n_features - 1, n_clusters_)``. The polynomial at ``w``
         is ``coef_ @ np.prod(w ** exponents_, axis=1)``.
+    components_ : ndarray of shape (n_components, n_features_in_) or None
+        With ``n_components``: the leading principal directions of the
+        training points (not centred), in which they are segmented; the
+        other attributes' ``n_features`` is then ``n_components``. None
+        otherwise.
+    component_scale_ : ndarray of shape (n_components,) or None
+        The singular values of the training points along ``components_``:
+        a point ``x`` is segmented at ``components_ @ x / component_scale_``.
     n_features_in_ : int
         Number of features seen during :term:`fit`.
     feature_names_in_ : ndarray of shape (n_features_in_,)
@@ -822,7 +857,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             StrOptions({"auto"}),
         ],
         "max_clusters": [Count(1, None, closed="left")],
-        "criterion": [StrOptions(set(CRITERIA)), callable],
+        "n_components": [Count(2, None, closed="left"), None],
+        "criterion": [StrOptions({"auto", *CRITERIA}), callable],
         **_PARAMETER_CONSTRAINTS,
     }
 
@@ -831,7 +867,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         n_clusters=2,
         *,
         max_clusters=5,
-        criterion="distinct_coding_length",
+        n_components=None,
+        criterion="auto",
         normalize=True,
         point_normals="local",
         affinity="nearest_neighbors",
@@ -851,6 +888,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     ):
         self.n_clusters = n_clusters
         self.max_clusters = max_clusters
+        self.n_components = n_components
         self.criterion = criterion
         self.normalize = normalize
         self.point_normals = point_normals
@@ -883,8 +921,38 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
 
     def _gpca_params(self):
         params = self.get_params()
-        del params["n_clusters"], params["max_clusters"], params["criterion"]
+        for name in ("n_clusters", "max_clusters", "n_components", "criterion"):
+            del params[name]
         return params
+
+    def _criterion(self):
+        if self.criterion != "auto":
+            return criterion_function(self.criterion)
+        wide = self.n_components is not None
+        return CRITERIA[
+            "trajectory_coding_length" if wide else "distinct_coding_length"
+        ]
+
+    def _fit_segmentation_space(self, X):
+        """The points to segment: ``X``, or its whitened leading directions."""
+        if self.n_components is None:
+            self.components_ = self.component_scale_ = None
+            return X
+        if self.n_components > min(X.shape):
+            raise ValueError(
+                f"n_components={self.n_components} exceeds the "
+                f"n_samples={X.shape[0]} or n_features={X.shape[1]} of X: "
+                "X has at most min(n_samples, n_features) principal directions."
+            )
+        self.components_, self.component_scale_ = fit_segmentation_space(
+            X, self.n_components
+        )
+        return self._to_segmentation_space(X)
+
+    def _to_segmentation_space(self, X):
+        if self.components_ is None:
+            return X
+        return to_segmentation_space(X, self.components_, self.component_scale_)
 
     def _feasible_n_clusters(self, X):
         """``1 .. max_clusters`` while the Veronese embedding has enough points.
@@ -901,17 +969,18 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             feasible.append(n)
         return feasible
 
-    def _select_n_clusters(self, X):
-        """``n_clusters="auto"``: :func:`select_n_clusters` over the feasible n."""
-        feasible = self._feasible_n_clusters(X)
+    def _select_n_clusters(self, X, Z):
+        """``n_clusters="auto"``: :func:`select_n_clusters` over the feasible n,
+        segmenting ``Z`` and judging the labels on ``X``."""
+        feasible = self._feasible_n_clusters(Z)
         params = self._gpca_params()
 
         def segment(n):
-            result = _gpca(X, n, params)
+            result = _gpca(Z, n, params)
             return X, result.labels, result
 
         best, costs, results = select_n_clusters(
-            segment, feasible, criterion=self.criterion
+            segment, feasible, criterion=self._criterion()
         )
         all_costs = np.full(self.max_clusters, np.inf)
         all_costs[: len(feasible)] = costs
@@ -934,10 +1003,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             Fitted estimator.
         """
         X = self._validate_X(X, reset=True)
+        Z = self._fit_segmentation_space(X)
         if self.n_clusters == "auto":
-            result, self.n_clusters_costs_ = self._select_n_clusters(X)
+            result, self.n_clusters_costs_ = self._select_n_clusters(X, Z)
         else:
-            result = _gpca(X, self.n_clusters, self._gpca_params())
+            result = _gpca(Z, self.n_clusters, self._gpca_params())
         self.n_clusters_ = len(result.subspace_bases)
         self.labels_ = result.labels
         self.normals_ = result.normals
@@ -946,13 +1016,13 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self.polynomials_ = result.polynomials
         self.coef_ = result.polynomials[0]
         self.n_polynomials_ = result.polynomials.shape[0]
-        self.exponents_ = veronese_exponents(X.shape[1], self.n_clusters_)
+        self.exponents_ = veronese_exponents(Z.shape[1], self.n_clusters_)
         self.n_spectral_samples_ = result.segmented.size
         self.n_iter_ = result.n_iter
         self.candidate_ncuts_ = result.candidate_ncuts
         self.candidate_residuals_ = result.candidate_residuals
         self.chosen_candidate_ = result.chosen_candidate
-        self.reference_points_ = unit_rows(X[result.reference])
+        self.reference_points_ = unit_rows(Z[result.reference])
         self.reference_labels_ = self.labels_[result.reference]
         self.residual_scale_ = result.residual_scale
         return self
@@ -982,7 +1052,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             The origin, which lies on every subspace, gets label 0.
         """
         check_is_fitted(self)
-        X = self._validate_X(X, reset=False)
+        X = self._to_segmentation_space(self._validate_X(X, reset=False))
         unit = unit_rows(X)
         n_reference = self.reference_points_.shape[0]
         neighbor_labels, smoothing = None, 0.0
@@ -1033,5 +1103,5 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = self._validate_X(X, reset=False)
-        cost = criterion_function(self.criterion)(X, self.predict(X))
+        cost = self._criterion()(X, self.predict(X))
         return -cost / X.shape[0]
