@@ -10,7 +10,7 @@ same around any clusterer (or pipeline ending in one), in the spirit of
 ``GPCAClustering.score`` use :func:`distinct_coding_length_cost` on the
 points they segment (the coding length of the segmentations whose groups are
 distinct subspaces), and :func:`trajectory_coding_length_cost` on wider,
-unwhitened inputs that ``GPCAClustering(n_components=5)`` projects itself
+unwhitened inputs that ``GPCAClustering(segmentation_dim=5)`` projects itself
 (the coding length of the trajectories in up to ``4 * max_clusters``
 dimensions, where distinct motions are distinct subspaces).
 """

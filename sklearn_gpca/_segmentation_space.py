@@ -1,6 +1,6 @@
 """The whitened leading directions in which GPCAClustering segments wide inputs.
 
-``GPCAClustering(n_components=k)`` takes points of any width (e.g. the
+``GPCAClustering(segmentation_dim=k)`` takes points of any width (e.g. the
 unwhitened rank-20 projection of the trajectories, in which
 ``n_clusters="auto"`` counts the motions) and segments them in the ``k``
 leading principal directions of the points, not centred and whitened: for

@@ -466,7 +466,7 @@ def test_function_and_estimator_share_defaults():
     function = inspect.signature(gpca).parameters
     estimator = inspect.signature(GPCAClustering).parameters
     shared = set(function) - {"X"}
-    assert shared == set(estimator) - {"max_clusters", "criterion"}
+    assert shared == set(estimator) - {"max_clusters", "criterion", "segmentation_dim"}
     for name in shared:
         assert function[name].default == estimator[name].default, name
     for name, parameter in inspect.signature(k_subspaces).parameters.items():
