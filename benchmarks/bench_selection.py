@@ -72,7 +72,7 @@ def run_one(bunch):
         result = gpca(Z, n, random_state=0)
     truth = np.unique(bunch.y, return_inverse=True)[1]
     from_truth, *_ = k_subspaces(
-        unit_rows(Z), truth, n, neighbors=result.local_neighbors, random_state=0
+        unit_rows(Z), truth, n, neighbors=result.local_neighbors
     )
     candidates = result.candidate_labels
     errors = np.array([misclassification_rate(bunch.y, c) for c in candidates])
