@@ -10,7 +10,8 @@ of its own module:
 2. the normals at each point (:mod:`sklearn_gpca._normals`);
 3. the affinity candidates (:mod:`sklearn_gpca._candidates`);
 4. the refinement (:mod:`sklearn_gpca._ksubspaces`);
-5. the selection (:mod:`sklearn_gpca._selection`);
+5. the selection (:mod:`sklearn_gpca._selection`, with the votes of
+   :mod:`sklearn_gpca._voting`);
 6. the extension from a subsample (:mod:`sklearn_gpca._extension`);
 
 and the estimator validates, calls it, and stores what it returns.
@@ -66,6 +67,7 @@ from sklearn_gpca._subspaces import (
 )
 from sklearn_gpca._validation import Count
 from sklearn_gpca._veronese import n_monomials, veronese_exponents
+from sklearn_gpca._voting import VOTING_ROUNDS, vote_cut, vote_features, voting_runs
 
 _PARAMETER_CONSTRAINTS = {
     "normalize": ["boolean"],
@@ -75,6 +77,7 @@ _PARAMETER_CONSTRAINTS = {
     "affinity_power": [Count(1, None, closed="left")],
     "init": [StrOptions({"multi", "spectral"})],
     "n_init": [Count(1, None, closed="left")],
+    "n_votes": [Count(0, None, closed="left")],
     "refine": ["boolean"],
     "smoothing": [Interval(Real, 0, None, closed="left")],
     "subspace_dim": [
@@ -135,6 +138,15 @@ default="local"
         the time column of ``benchmarks/results/ablation.md`` compares them.
     n_init : int, default=10
         Number of k-means runs on each spectral embedding.
+    n_votes : int, default=100
+        Number ``R`` of randomized-voting runs (beyond the paper; Jung, Ju &
+        Kim, CVPR 2014) behind the selection of ``init="multi"`` (stage 5):
+        each run is plain K-subspaces from ``n_clusters`` subspaces spanned
+        by a random point and its nearest neighbours, and votes for the pairs
+        of points it puts together. The kept candidate minimises the
+        normalised cut on the polynomial-normal graph plus the normalised cut
+        on this vote graph. 0 selects by the first cut alone. Time and memory
+        ``O(n R n_clusters)`` on the ``n`` segmented points.
     refine : bool, default=True
         Refine each candidate by smoothed K-subspaces (stage 4): alternately
         fit one subspace per cluster and reassign the points. The paper uses
@@ -348,6 +360,15 @@ def _subspace_dim(p, unit):
     return unit.shape[1] - 1 if p["subspace_dim"] is None else p["subspace_dim"]
 
 
+def _voting_dim(p, unit):
+    """Dimension of the voting runs' subspaces: ``subspace_dim`` if an int,
+    else hyperplanes."""
+    dim = p["subspace_dim"]
+    if dim is None or dim == "auto":
+        return unit.shape[1] - 1
+    return min(dim, unit.shape[1] - 1)
+
+
 def _refinement(p):
     """Keyword arguments of :func:`k_subspaces` from the parameters."""
     return dict(
@@ -377,6 +398,21 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
             refined.append(labels)
             n_iter, converged = max(n_iter, iterations), converged and settled
         candidates = refined
+    vote_cuts = None
+    if graph is not None and p["n_votes"] > 0:
+        votes = vote_features(
+            voting_runs(
+                unit,
+                n_clusters,
+                local,
+                n_runs=p["n_votes"],
+                dim=_voting_dim(p, unit),
+                n_iter=VOTING_ROUNDS,
+                random_state=random_state,
+            ),
+            n_clusters,
+        )
+        vote_cuts = np.array([vote_cut(votes, c, n_clusters) for c in candidates])
     chosen, cuts, residuals = select_candidate(
         unit,
         candidates,
@@ -384,13 +420,17 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
         graph=graph,
         subspace_dim=_subspace_dim(p, unit),
         subspace_dim_tol=p["subspace_dim_tol"],
+        vote_cuts=vote_cuts,
     )
+    if vote_cuts is None:
+        vote_cuts = np.full(len(candidates), np.nan)
     return Bunch(
         labels=candidates[chosen],
         point_normals=bases[:, :, 0],
         local_neighbors=local,
         candidate_labels=np.array(candidates),
         candidate_ncuts=cuts,
+        candidate_vote_cuts=vote_cuts,
         candidate_residuals=residuals,
         chosen_candidate=chosen,
         selection_graph=graph,
@@ -442,6 +482,7 @@ def gpca(
     affinity_power=4,
     init="multi",
     n_init=10,
+    n_votes=100,
     refine=True,
     smoothing=5.0,
     subspace_dim=None,
@@ -485,8 +526,9 @@ def gpca(
           none otherwise);
         - ``candidate_labels``, ndarray of shape (n_candidates,
           len(segmented)): the refined candidates;
-        - ``candidate_ncuts``, ``candidate_residuals``, ndarray of shape
-          (n_candidates,), and ``chosen_candidate``, int: the selection;
+        - ``candidate_ncuts``, ``candidate_vote_cuts``,
+          ``candidate_residuals``, ndarray of shape (n_candidates,), and
+          ``chosen_candidate``, int: the selection;
         - ``selection_graph``: the sparse graph of the cuts, or None;
         - ``local_neighbors``, ndarray of shape (len(segmented), n_local):
           the neighbourhoods of the smoothing, or None;
@@ -708,11 +750,16 @@ default="auto"
         Normalised cut of each (refined) candidate segmentation on the graph
         of the polynomial's gradients, lower is better; NaN with a single
         candidate, which is not selected.
+    candidate_vote_cuts_ : ndarray of shape (n_candidates,)
+        Normalised cut of each (refined) candidate on the vote graph of the
+        ``n_votes`` randomized-voting runs, between 0 and ``n_clusters``,
+        lower is better; NaN with ``n_votes=0`` or a single candidate.
     candidate_residuals_ : ndarray of shape (n_candidates,)
         Sum of squared sine distances of the (unit) points to their cluster's
         fitted subspace, for each candidate, lower is better. The kept
-        candidate has the smallest ``candidate_ncuts_`` among those within a
-        factor 3 of the smallest residual (see Notes).
+        candidate has the smallest ``candidate_ncuts_ +
+        candidate_vote_cuts_`` (``candidate_ncuts_`` with ``n_votes=0``)
+        among those within a factor 3 of the smallest residual (see Notes).
     chosen_candidate_ : int
         Index of the kept candidate: ``2 g + s`` with graph ``g`` (0: the
         affinity graph, 1: its coarse scale, 2: the product graph; the coarse
@@ -811,12 +858,19 @@ n_features_in_) or None
     With ``init="multi"`` the refinement runs from six spectral
     initialisations and keeps the labels ``l`` minimising the normalised cut
     ``sum_k cut(C_k, rest) / vol(C_k)`` on the kNN graph weighted by the
-    polynomial gradients (the paper's normals, power ``q``), among the
-    candidates whose residual is at most 3 times the smallest: where two
-    motions overlap in :math:`R^5` the cut alone can prefer merging them and
-    splitting a third one in two, a segmentation whose hyperplanes fit
-    several times worse. ``benchmarks/results/selection.md`` measures how
-    the cut and the residual agree with the error on Hopkins155.
+    polynomial gradients (the paper's normals, power ``q``) plus the
+    normalised cut on the vote graph of randomized voting (Jung, Ju & Kim,
+    CVPR 2014), among the candidates whose residual is at most 3 times the
+    smallest: where two motions overlap in :math:`R^5` the kNN cut alone can
+    prefer merging them and splitting a third one in two, a segmentation
+    whose hyperplanes fit several times worse. The vote graph is global:
+    ``R = n_votes`` runs of plain K-subspaces (five rounds), each from
+    ``n`` hyperplanes spanned by a random point and ``K - 2`` of its
+    ``k / 3`` nearest neighbours, and ``V_ij`` the number of runs that put
+    ``i`` and ``j`` together. ``V = B B^T`` with ``B`` the ``P x R n``
+    one-hot matrix of the runs' labels, so its cut costs ``O(P R n)``.
+    ``benchmarks/results/selection.md`` measures how the cuts and the
+    residual agree with the error on Hopkins155.
 
     Large ``n_samples`` (beyond the paper). The Lanczos iterations on the
     kNN graph grow faster than linearly with ``P`` and the exact neighbour
@@ -884,6 +938,7 @@ n_features_in_) or None
         affinity_power=4,
         init="multi",
         n_init=10,
+        n_votes=100,
         refine=True,
         smoothing=5.0,
         subspace_dim=None,
@@ -905,6 +960,7 @@ n_features_in_) or None
         self.affinity_power = affinity_power
         self.init = init
         self.n_init = n_init
+        self.n_votes = n_votes
         self.refine = refine
         self.smoothing = smoothing
         self.subspace_dim = subspace_dim
@@ -1035,6 +1091,7 @@ n_features_in_) or None
         self.n_spectral_samples_ = result.segmented.size
         self.n_iter_ = result.n_iter
         self.candidate_ncuts_ = result.candidate_ncuts
+        self.candidate_vote_cuts_ = result.candidate_vote_cuts
         self.candidate_residuals_ = result.candidate_residuals
         self.chosen_candidate_ = result.chosen_candidate
         self.reference_points_ = unit_rows(Z[result.reference])

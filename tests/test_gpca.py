@@ -355,10 +355,9 @@ def test_init_candidates(init):
         residuals = model.candidate_residuals_
         admissible = residuals <= 3 * residuals.min()
         assert admissible[model.chosen_candidate_]
-        assert (
-            model.candidate_ncuts_[model.chosen_candidate_]
-            == model.candidate_ncuts_[admissible].min()
-        )
+        # the normalised cuts on the kNN graph and on the vote graph
+        score = model.candidate_ncuts_ + model.candidate_vote_cuts_
+        assert score[model.chosen_candidate_] == score[admissible].min()
 
 
 def test_fit_gate_rejects_merged_motions():
