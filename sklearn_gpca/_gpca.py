@@ -1084,9 +1084,8 @@ n_features_in_) or None
         self.normals_ = result.normals
         self.subspace_bases_ = result.subspace_bases
         self.point_normals_ = result.point_normals
-        self.polynomials_ = result.polynomials
-        self.coef_ = result.polynomials[0]
-        self.n_polynomials_ = result.polynomials.shape[0]
+        self.polynomials_ = polynomials = result.polynomials
+        self.coef_, self.n_polynomials_ = polynomials[0], polynomials.shape[0]
         self.exponents_ = veronese_exponents(Z.shape[1], self.n_clusters_)
         self.n_spectral_samples_ = result.segmented.size
         self.n_iter_ = result.n_iter
