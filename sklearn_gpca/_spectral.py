@@ -16,9 +16,9 @@ into labels by k-means on the unit rows of the eigenvectors.
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import ArpackNoConvergence, eigsh, lobpcg
-from sklearn.cluster import KMeans
 
 from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._kmeans import kmeans_labels
 from sklearn_gpca._memory import chunk_rows
 from sklearn_gpca._rows import TINY, unit_rows
 from sklearn_gpca._threads import one_thread
@@ -164,11 +164,11 @@ def embedding_kmeans(vectors, n_clusters, *, n_init, random_state):
     """
     if n_clusters == 1:
         return np.zeros(vectors.shape[0], dtype=np.intp)
-    kmeans = KMeans(n_clusters=n_clusters, n_init=n_init, random_state=random_state)
+    X = unit_rows(vectors)
     if not LIMIT_KMEANS_THREADS:
-        return kmeans.fit_predict(unit_rows(vectors)).astype(np.intp)
+        return kmeans_labels(X, n_clusters, n_init=n_init, random_state=random_state)
     with one_thread("openmp"):
-        return kmeans.fit_predict(unit_rows(vectors)).astype(np.intp)
+        return kmeans_labels(X, n_clusters, n_init=n_init, random_state=random_state)
 
 
 def spectral_clustering_lowrank(features, n_clusters, *, n_init=10, random_state=None):

@@ -121,13 +121,13 @@ def test_kmeans_runs_with_one_openmp_thread(monkeypatch):
     if not _openmp_threads():
         pytest.skip("no OpenMP runtime loaded")
     seen = []
+    kmeans_labels = _spectral.kmeans_labels
 
-    class RecordingKMeans(KMeans):
-        def fit_predict(self, X, y=None, sample_weight=None):
-            seen.extend(_openmp_threads())
-            return super().fit_predict(X)
+    def recording_kmeans_labels(*args, **kwargs):
+        seen.extend(_openmp_threads())
+        return kmeans_labels(*args, **kwargs)
 
-    monkeypatch.setattr(_spectral, "KMeans", RecordingKMeans)
+    monkeypatch.setattr(_spectral, "kmeans_labels", recording_kmeans_labels)
     vectors = np.repeat(np.eye(2), 5, axis=0)
     with threadpool_limits(2, user_api="openmp"):
         labels = embedding_kmeans(vectors, 2, n_init=2, random_state=0)

@@ -210,10 +210,12 @@ class FakeStart:
 
     def __init__(self, costs, pursued):
         self.costs, self.pursued, self.total = list(costs), pursued, 1.0
-        self.n_iter, self.cost, self.done = 0, np.inf, False
+        self.n_iter, self.cost, self.done, self.runs = 0, np.inf, False, 0
 
     def run(self, max_iter, max_accepted=None):
-        if max_accepted is None:
+        # every run after the trial steps pursues the start
+        self.runs += 1
+        if self.runs == 2:
             self.pursued.append(self)
         steps = len(self.costs) if max_accepted is None else max_accepted
         for _ in range(min(steps, len(self.costs))):
@@ -230,6 +232,7 @@ def test_restarts_pursue_promising_starts_then_the_lowest_waiting(
     monkeypatch, n_init, expected
 ):
     monkeypatch.setattr(_multistart, "TRIAL_STEPS", 2)
+    monkeypatch.setattr(_multistart, "PURSUIT_STEPS", 2)
     # start k: (residual after the 2 trial steps, final residual)
     scripts = [(5.0, 1.0), (3.0, 2.0), (4.0, 1.0), (9.0, 0.5), (2.0, 3.0), (6.0, 1.0)]
     pursued, made = [], []
@@ -255,6 +258,59 @@ def test_restarts_pursue_promising_starts_then_the_lowest_waiting(
     # which would reach 0.5, is never pursued
     assert [made.index(start) for start in pursued] == expected
     assert best.cost == 1.0
+
+
+def test_a_promising_start_crawling_along_waits_for_the_other_starts(monkeypatch):
+    monkeypatch.setattr(_multistart, "TRIAL_STEPS", 2)
+    monkeypatch.setattr(_multistart, "PURSUIT_STEPS", 3)
+    # start 0 crawls for 50 steps to a poor minimum; starts 1 and 2, drawn
+    # meanwhile, reach the lowest residual, 1, in a few steps: start 0 gets
+    # its trial and pursuit steps only
+    crawl = [10.0, 3.0, *np.linspace(2.9, 2.0, 50)]
+    scripts = [crawl, [10.0, 2.8, 2.5, 1.0], [10.0, 2.7, 1.0]]
+    pursued, made = [], []
+
+    def make_start(init):
+        made.append(FakeStart(scripts[len(made)], pursued))
+        return made[-1]
+
+    best, n_starts = _multistart.best_of_starts(
+        make_start,
+        4,
+        2,
+        n_init=5,
+        max_iter=100,
+        random_state=np.random.RandomState(0),
+        log=silent,
+    )
+    assert (n_starts, best.cost) == (3, 1.0)
+    assert made[0].n_iter == 2 + 3 and not made[0].done
+    assert [made.index(start) for start in pursued] == [0, 1, 2]
+
+
+def test_a_pursued_waiting_start_does_not_confirm_itself(monkeypatch):
+    monkeypatch.setattr(_multistart, "TRIAL_STEPS", 2)
+    monkeypatch.setattr(_multistart, "PURSUIT_STEPS", 1)
+    # start 0 ends at 2; starts 1 and 2 wait and both end at 1: the minimum
+    # at 1 is confirmed only once start 2 has reached it too
+    scripts = [[10.0, 5.0, 2.0], [10.0, 6.0, 1.0], [10.0, 7.0, 1.0]]
+    pursued, made = [], []
+
+    def make_start(init):
+        made.append(FakeStart(scripts[len(made)], pursued))
+        return made[-1]
+
+    best, n_starts = _multistart.best_of_starts(
+        make_start,
+        4,
+        2,
+        n_init=3,
+        max_iter=100,
+        random_state=np.random.RandomState(0),
+        log=silent,
+    )
+    assert [made.index(start) for start in pursued] == [0, 1, 2]
+    assert (n_starts, best.cost) == (3, 1.0)
 
 
 def test_restarts_stop_when_the_best_fit_repeats():
