@@ -455,12 +455,9 @@ def segment_motions(
             for labels in refined
         ]
     )
-    if np.isnan(ambiguity).any():
-        chosen = int(np.argmin(lengths))
-    else:
-        chosen = select_candidate(
-            lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
-        )
+    chosen = select_candidate(
+        lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
+    )
     labels = refined[chosen]
     if return_info:
         return labels, Bunch(

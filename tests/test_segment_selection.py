@@ -91,6 +91,10 @@ def test_ambiguous_fraction_needs_two_groups():
         ([3.0, 1.0, 2.0], [0.0, 0.5, 0.01], "separability", 2),
         ([3.0, 1.0, 2.0], [0.0, 0.5, 0.1], "separability", 0),
         ([3.0, 1.0, 2.0], [0.2, 0.19, 0.2], "separability", 1),
+        # candidate 1 collapsed to one motion (NaN): not eligible, even shortest
+        ([3.0, 1.0, 2.0], [0.0, np.nan, 0.01], "separability", 2),
+        ([3.0, 1.0, 2.0], [np.nan, np.nan, np.nan], "separability", 1),
+        ([3.0, 1.0, 2.0], [0.0, np.nan, 0.1], "coding_length", 1),
     ],
 )
 def test_select_candidate_rules(lengths, ambiguity, selection, expected):
