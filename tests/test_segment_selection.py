@@ -144,3 +144,18 @@ def test_estimator_selection_and_ambiguity():
         MotionSegmentation(2, selection="bits").fit(X)
     with pytest.raises(ValueError, match="selection"):
         segment_motions(X, 2, selection="bits")
+
+
+def test_default_candidates_include_votes_and_rule_uses_smaller_subspaces():
+    X, _ = make_motions(2, n_points=[80, 60], n_frames=10, missing=0.2, random_state=0)
+    labels, info = segment_motions(X, 2, random_state=0, return_info=True)
+    assert info.candidates == ["gpca", "fragments", "votes"]
+    # the ambiguity of each candidate is measured with 3-D subspaces
+    X0, mask = observed_entries(X)
+    X0 = X0 / info.scale
+    expected = [
+        ambiguous_fraction(X0, mask, refined, info.noise, subspace_dim=3)
+        for refined in info.refined
+    ]
+    np.testing.assert_allclose(info.ambiguity, expected)
+    assert np.array_equal(labels, info.refined[info.chosen])
