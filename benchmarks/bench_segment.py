@@ -157,8 +157,8 @@ def run_one(setting, name, X, y, n, threads, paper):
                 tolerance=AMBIGUITY_TOLERANCE,
             )
             row[key] = errors[keep[chosen]]
-        # the default: init="auto", selection="separability"
-        row["segment"] = row["auto+separability"]
+        # the default: init="all", selection="separability"
+        row["segment"] = row["all+separability"]
         for name, info_key in CRITERIA.items():
             values = np.asarray(info[info_key], dtype=float)
             row[f"hit {name}"] = float(
@@ -242,13 +242,11 @@ def _cell(values, fmt="{:.2f}", scale=100.0):
 
 def _methods(rows):
     names = sorted({c for r in rows for c in r["candidates"]})
-    methods = [
-        ("segment_motions (default: init='auto', separability)", "segment", None)
-    ]
+    methods = [("segment_motions (default: init='all', separability)", "segment", None)]
     methods += [
         (f"segment_motions, init='{init}', selection='{selection}'", key, None)
         for key, (init, selection) in RULES.items()
-        if key != "auto+separability"
+        if key != "all+separability"
     ]
     methods += [(f"segment_motions, candidate {c} refined", c, None) for c in names]
     methods += [

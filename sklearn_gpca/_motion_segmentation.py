@@ -20,10 +20,10 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     The estimator of :func:`segment_motions`: full-space segmentation of
     trajectories as a tracker gives them (NaN where a track is not seen),
     beyond the paper's projection to ``R^5``. Candidate segmentations from
-    motion-affinity fragments and from ``PowerFactorization`` +
-    ``GPCAClustering`` (and, with ``init="votes"``, from votes for local
-    perspective and subspace hypotheses, as :class:`PerspectiveClustering`)
-    are refined by smoothed
+    motion-affinity fragments, from ``PowerFactorization`` +
+    ``GPCAClustering`` and from votes for local perspective and subspace
+    hypotheses (as :class:`PerspectiveClustering`; ``init="auto"`` leaves
+    them out) are refined by smoothed
     K-subspaces on each track's observed entries in ``R^{2F}``, and one is
     kept by ``selection`` (the shortest coding length among the candidates
     leaving the fewest tracks ambiguous between two motions, or the shortest
@@ -36,7 +36,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     n_clusters : int, default=2
         Number of motions.
 
-    init : {"auto", "all", "fragments", "gpca", "votes"}, default="auto"
+    init : {"auto", "all", "fragments", "gpca", "votes"}, default="all"
         Candidate segmentations (see :func:`segment_motions`).
 
     selection : {"separability", "coding_length"}, default="separability"
@@ -128,7 +128,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self,
         n_clusters=2,
         *,
-        init="auto",
+        init="all",
         selection="separability",
         subspace_dim=4,
         smoothing=3.0,

@@ -214,7 +214,9 @@ def fit_observed_subspace(
         moments, _ = comoment_matrix(X0[:, support], mask[:, support], w)
         _, vectors = np.linalg.eigh(moments)
         init = np.zeros((n_features, dim))
-        init[support] = vectors[:, ::-1][:, :dim]
+        # fewer coordinates in the support than dimensions: a partial basis
+        found = vectors[:, ::-1][:, :dim]
+        init[support, : found.shape[1]] = found
     basis = init * support[:, None]
     Xw, mw = X0[:, support], mask[:, support]
     previous = np.inf

@@ -140,7 +140,10 @@ def select_candidate(coding_lengths, ambiguity, *, selection, tolerance=0.02):
     coding_lengths : array-like of shape (n_candidates,)
         :func:`coding_length` of each candidate.
     ambiguity : array-like of shape (n_candidates,)
-        :func:`ambiguous_fraction` of each candidate.
+        :func:`ambiguous_fraction` of each candidate; NaN for a candidate
+        that cannot be judged (fewer than two motions left after its
+        refinement): ``"separability"`` keeps it only when no candidate can
+        be judged.
     selection : {"coding_length", "separability"}
         ``"coding_length"``: the shortest coding length. ``"separability"``:
         the shortest coding length among the candidates whose ambiguous
@@ -165,5 +168,8 @@ def select_candidate(coding_lengths, ambiguity, *, selection, tolerance=0.02):
         raise ValueError(
             f"selection must be 'coding_length' or 'separability', got {selection!r}."
         )
-    eligible = ambiguity <= ambiguity.min() + tolerance
+    judged = ~np.isnan(ambiguity)
+    if not judged.any():
+        return int(np.argmin(coding_lengths))
+    eligible = judged & (ambiguity <= ambiguity[judged].min() + tolerance)
     return int(np.argmin(np.where(eligible, coding_lengths, np.inf)))

@@ -132,3 +132,21 @@ def test_residuals_scale_quadratically_and_follow_row_order(seed, scale):
     permuted, permuted_dofs = subspace_residuals(X0[order], mask[order], [basis])
     assert_allclose(permuted, residuals[order], rtol=1e-9, atol=1e-12)
     assert np.array_equal(permuted_dofs, dofs[order])
+
+
+def test_fit_with_fewer_supported_coordinates_than_dimensions():
+    # a cluster whose tracks share 3 coordinates, one entry missing: the
+    # support is smaller than the asked dimension; the fit spans the support
+    # (exact fit of every row) instead of failing in numpy
+    rng = np.random.default_rng(0)
+    X = rng.normal(size=(6, 10))
+    mask = np.zeros((6, 10), dtype=bool)
+    mask[:, :3] = True
+    mask[0, 0] = False
+    basis, support = fit_observed_subspace(np.where(mask, X, 0), mask, 4)
+    assert support.sum() == 3
+    assert basis.shape == (10, 4)
+    gram = basis.T @ basis
+    np.testing.assert_allclose(np.diag(gram), [1, 1, 1, 0], atol=1e-10)
+    _, residuals, _ = row_fits(np.where(mask, X, 0), mask, basis, support)
+    np.testing.assert_allclose(residuals, 0, atol=1e-10)

@@ -91,6 +91,10 @@ def test_ambiguous_fraction_needs_two_groups():
         ([3.0, 1.0, 2.0], [0.0, 0.5, 0.01], "separability", 2),
         ([3.0, 1.0, 2.0], [0.0, 0.5, 0.1], "separability", 0),
         ([3.0, 1.0, 2.0], [0.2, 0.19, 0.2], "separability", 1),
+        # candidate 1 collapsed to one motion (NaN): not eligible, even shortest
+        ([3.0, 1.0, 2.0], [0.0, np.nan, 0.01], "separability", 2),
+        ([3.0, 1.0, 2.0], [np.nan, np.nan, np.nan], "separability", 1),
+        ([3.0, 1.0, 2.0], [0.0, np.nan, 0.1], "coding_length", 1),
     ],
 )
 def test_select_candidate_rules(lengths, ambiguity, selection, expected):
@@ -140,3 +144,18 @@ def test_estimator_selection_and_ambiguity():
         MotionSegmentation(2, selection="bits").fit(X)
     with pytest.raises(ValueError, match="selection"):
         segment_motions(X, 2, selection="bits")
+
+
+def test_default_candidates_include_votes_and_rule_uses_smaller_subspaces():
+    X, _ = make_motions(2, n_points=[80, 60], n_frames=10, missing=0.2, random_state=0)
+    labels, info = segment_motions(X, 2, random_state=0, return_info=True)
+    assert info.candidates == ["gpca", "fragments", "votes"]
+    # the ambiguity of each candidate is measured with 3-D subspaces
+    X0, mask = observed_entries(X)
+    X0 = X0 / info.scale
+    expected = [
+        ambiguous_fraction(X0, mask, refined, info.noise, subspace_dim=3)
+        for refined in info.refined
+    ]
+    np.testing.assert_allclose(info.ambiguity, expected)
+    assert np.array_equal(labels, info.refined[info.chosen])
