@@ -317,3 +317,22 @@ def test_make_missing_errors():
         make_missing(np.ones((10, 5)))
     with pytest.raises(ValueError, match=r"missing=0.9 leaves .* fewer than the"):
         make_missing(np.ones((10, 20)), 0.9)
+
+
+def test_occlusion_windows_that_cannot_exist_are_named():
+    """6 tracks on 4 frames with 3 of the 24 point-frames missing passes the
+    count check (21 observed >= 5 per frame x 4 frames = 20), but no
+    contiguous windows fit: each track keeps >= 3 of its 4 frames, so it
+    misses at most one end frame (0 or 3), and each frame may miss at most
+    one of its 6 points (5 must stay): 2 missing point-frames at most, not
+    3."""
+    X = np.arange(6 * 8, dtype=float).reshape(6, 8)
+    message = (
+        "Could not place occlusion windows with at least 5 points in each of "
+        "the 4 frames; lower `missing` or add points."
+    )
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        make_missing(X, 3 / 24, pattern="occlusion", random_state=0)
+    # the random pattern needs no windows: 3 missing point-frames fit
+    X_missing = make_missing(X, 3 / 24, pattern="random", random_state=0)
+    assert np.isnan(X_missing[:, ::2]).sum() == 3
