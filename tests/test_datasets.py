@@ -336,3 +336,46 @@ def test_occlusion_windows_that_cannot_exist_are_named():
     # the random pattern needs no windows: 3 missing point-frames fit
     X_missing = make_missing(X, 3 / 24, pattern="random", random_state=0)
     assert np.isnan(X_missing[:, ::2]).sum() == 3
+
+
+@pytest.mark.parametrize("missing", [0.02, 0.1, 0.25, 0.5, 0.75])
+def test_occlusion_window_lengths_spread_about_their_mean(missing):
+    """Occlusion: each track is seen on one window of frames, whose length is
+    drawn uniformly about the mean ``m = (1 - missing) F`` as widely as the
+    guarantees allow, on ``[m - s, m + s]`` with ``s = min(m - 3, F - m)``,
+    and rounded (then a few tracks are nudged by one frame to make the total
+    exact). The lengths' histogram is compared with that rounded uniform law
+    (total variation; ~0.02 from sampling alone with 5000 tracks)."""
+    n_tracks, n_frames = 5000, 20
+    X = np.zeros((n_tracks, 2 * n_frames))
+    observed = ~np.isnan(make_missing(X, missing, random_state=0)[:, ::2])
+    lengths = observed.sum(axis=1)
+    assert lengths.sum() == round((1 - missing) * n_tracks * n_frames)
+    steps = np.diff(observed.astype(int), axis=1)
+    assert ((steps == 1).sum(axis=1) <= 1).all()
+    assert ((steps == -1).sum(axis=1) <= 1).all()
+    mean = (1 - missing) * n_frames
+    spread = min(mean - MIN_FRAMES_PER_TRACK, n_frames - mean)
+    low, high = mean - spread, mean + spread
+    k = np.arange(n_frames + 1)
+    law = np.clip(np.minimum(k + 0.5, high) - np.maximum(k - 0.5, low), 0, None)
+    law /= law.sum()
+    histogram = np.bincount(lengths, minlength=n_frames + 1) / n_tracks
+    assert 0.5 * np.abs(histogram - law).sum() < 0.06
+
+
+@pytest.mark.parametrize("n_tracks", [30, 50])
+def test_occlusion_with_little_missing_keeps_its_guarantees(n_tracks):
+    """Nearly complete tracks (1 or 2 % missing, so most windows span all 20
+    frames): over many draws the missing count is exact, every track keeps
+    one window of at least 3 frames and every frame at least 5 points."""
+    X = np.zeros((n_tracks, 40))
+    for missing in (0.01, 0.02):
+        for seed in range(20):
+            observed = ~np.isnan(make_missing(X, missing, random_state=seed)[:, ::2])
+            assert (~observed).sum() == round(missing * n_tracks * 20)
+            assert observed.sum(axis=1).min() >= MIN_FRAMES_PER_TRACK
+            assert observed.sum(axis=0).min() >= MIN_POINTS_PER_FRAME
+            steps = np.diff(observed.astype(int), axis=1)
+            assert ((steps == 1).sum(axis=1) <= 1).all()
+            assert ((steps == -1).sum(axis=1) <= 1).all()
