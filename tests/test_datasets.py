@@ -379,3 +379,26 @@ def test_occlusion_with_little_missing_keeps_its_guarantees(n_tracks):
             steps = np.diff(observed.astype(int), axis=1)
             assert ((steps == 1).sum(axis=1) <= 1).all()
             assert ((steps == -1).sum(axis=1) <= 1).all()
+
+
+@pytest.mark.parametrize(
+    ("n_tracks", "n_frames", "n_missing"),
+    [(6, 10, 1), (6, 10, 2), (15, 20, 190), (15, 20, 195), (20, 20, 294)],
+)
+def test_occlusion_windows_are_placed_at_the_edges_of_the_guarantees(
+    n_tracks, n_frames, n_missing
+):
+    """Feasible requests at the edge: 6 tracks with 1 or 2 missing
+    point-frames (each frame keeps 5 of its 6 points: the missing ones sit at
+    the two ends), and 105-110 point-frames left where 100 are needed (5 per
+    frame); each draw keeps every guarantee."""
+    X = np.zeros((n_tracks, 2 * n_frames))
+    for seed in range(3):
+        missing = n_missing / (n_tracks * n_frames)
+        observed = ~np.isnan(make_missing(X, missing, random_state=seed)[:, ::2])
+        assert (~observed).sum() == n_missing
+        assert observed.sum(axis=1).min() >= MIN_FRAMES_PER_TRACK
+        assert observed.sum(axis=0).min() >= MIN_POINTS_PER_FRAME
+        steps = np.diff(observed.astype(int), axis=1)
+        assert ((steps == 1).sum(axis=1) <= 1).all()
+        assert ((steps == -1).sum(axis=1) <= 1).all()
