@@ -402,3 +402,34 @@ def test_occlusion_windows_are_placed_at_the_edges_of_the_guarantees(
         steps = np.diff(observed.astype(int), axis=1)
         assert ((steps == 1).sum(axis=1) <= 1).all()
         assert ((steps == -1).sum(axis=1) <= 1).all()
+
+
+@pytest.mark.parametrize("missing", [0.35, 0.5])
+def test_random_pattern_tops_up_thin_frames(missing):
+    """10 tracks on 20 frames: 3 protected frames per track leave frames with
+    1.5 points on average, so most frames must be topped up to 5 before the
+    rest is drawn; every draw keeps both guarantees (0.5 is the limit: 100
+    point-frames, 5 per frame)."""
+    X = np.zeros((10, 40))
+    for seed in range(5):
+        observed = ~np.isnan(
+            make_missing(X, missing, pattern="random", random_state=seed)[:, ::2]
+        )
+        assert (~observed).sum() == round(missing * 200)
+        assert observed.sum(axis=0).min() >= MIN_POINTS_PER_FRAME
+        assert observed.sum(axis=1).min() >= MIN_FRAMES_PER_TRACK
+
+
+def test_random_pattern_refusal_names_the_numbers():
+    """10 tracks on 6 frames with half missing: 30 observed point-frames, as
+    many as 3 per track and 5 per frame need. The random pattern protects 3
+    random frames per track, then tops up thin frames, which needs more than
+    30 here (a limitation of the greedy draw: an exact arrangement exists);
+    it refuses with the numbers."""
+    message = (
+        r"^Too much missing data: 30 observed point-frames requested but the "
+        r"guarantees \(3 frames per track, 5 points per frame\) need (\d+)\.$"
+    )
+    with pytest.raises(ValueError, match=message) as excinfo:
+        make_missing(np.zeros((10, 12)), 0.5, pattern="random", random_state=0)
+    assert int(re.match(message, str(excinfo.value)).group(1)) > 30
