@@ -383,15 +383,22 @@ def test_occlusion_with_little_missing_keeps_its_guarantees(n_tracks):
 
 @pytest.mark.parametrize(
     ("n_tracks", "n_frames", "n_missing"),
-    [(6, 10, 1), (6, 10, 2), (15, 20, 190), (15, 20, 195), (20, 20, 294)],
+    [
+        (6, 10, 1),
+        (6, 10, 2),
+        (15, 12, 120),
+        (15, 20, 190),
+        (15, 20, 195),
+        (20, 20, 294),
+    ],
 )
 def test_occlusion_windows_are_placed_at_the_edges_of_the_guarantees(
     n_tracks, n_frames, n_missing
 ):
     """Feasible requests at the edge: 6 tracks with 1 or 2 missing
     point-frames (each frame keeps 5 of its 6 points: the missing ones sit at
-    the two ends), and 105-110 point-frames left where 100 are needed (5 per
-    frame); each draw keeps every guarantee."""
+    the two ends), 60 point-frames left where 60 are needed (5 per frame on
+    12 frames) and 105-110 where 100 are; each draw keeps every guarantee."""
     X = np.zeros((n_tracks, 2 * n_frames))
     for seed in range(3):
         missing = n_missing / (n_tracks * n_frames)
