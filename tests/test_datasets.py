@@ -440,3 +440,22 @@ def test_random_pattern_refusal_names_the_numbers():
     with pytest.raises(ValueError, match=message) as excinfo:
         make_missing(np.zeros((10, 12)), 0.5, pattern="random", random_state=0)
     assert int(re.match(message, str(excinfo.value)).group(1)) > 30
+
+
+@pytest.mark.parametrize(
+    ("n_tracks", "missing", "n_visible", "n_cells", "required", "per_frame"),
+    [(10, 0.9, 10, 100, 50, 5), (4, 0.1, 36, 40, 40, 4), (30, 0.8, 60, 300, 90, 5)],
+)
+def test_too_much_missing_message_gives_the_counts(
+    n_tracks, missing, n_visible, n_cells, required, per_frame
+):
+    """10 frames: ``n_visible`` of ``n_tracks * 10`` point-frames left, and
+    ``max(3 * n_tracks, per_frame * 10)`` needed, ``per_frame`` being 5, or
+    every track when there are fewer."""
+    message = (
+        f"missing={missing} leaves {n_visible} of {n_cells} point-frames observed, "
+        f"fewer than the {required} needed to keep 3 frames per track and "
+        f"{per_frame} points per frame."
+    )
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        make_missing(np.ones((n_tracks, 20)), missing)
