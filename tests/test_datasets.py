@@ -13,7 +13,7 @@ from scipy.linalg import subspace_angles
 
 from sklearn_gpca.datasets import make_missing, make_motions, make_transparent
 from sklearn_gpca.datasets._missing import MIN_FRAMES_PER_TRACK, MIN_POINTS_PER_FRAME
-from sklearn_gpca.datasets._motions import _MOTION_DIMS
+from sklearn_gpca.datasets._motions import _MOTION_DIMS, _structure, _translations
 
 
 def numerical_rank(A, rtol=1e-9):
@@ -459,3 +459,51 @@ def test_too_much_missing_message_gives_the_counts(
     )
     with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
         make_missing(np.ones((n_tracks, 20)), missing)
+
+
+def test_translations_move_one_to_five_pixels_a_frame():
+    """Documented: translations move 1-5 pixels per frame (uniform speed, mean
+    3) with small random accelerations (0.3 px per frame squared per axis),
+    in a uniformly random direction, from a start in the central 60 % of the
+    640 x 480 image; depth never moves. 2000 draws; bounds at ~4 standard
+    errors."""
+    rng = np.random.RandomState(0)
+    T = np.array([_translations(6, rng) for _ in range(2000)])
+    assert_array_equal(T[:, :, 2], 0.0)
+    step = T[:, 1, :2] - T[:, 0, :2]
+    assert abs(np.linalg.norm(step, axis=1).mean() - 3.0) < 0.15
+    assert abs(np.diff(T[:, :, :2], 2, axis=1).std() - 0.3) < 0.015
+    heading = np.arctan2(step[:, 1], step[:, 0]) % (2 * np.pi)
+    quadrants = np.histogram(heading, 4, (0, 2 * np.pi))[0]
+    assert np.all(np.abs(quadrants - 500) < 80)
+    for coordinate, size in ((0, 640.0), (1, 480.0)):
+        start = T[:, 0, coordinate]
+        assert np.all(np.abs(start) <= 0.3 * size)
+        # uniform on [-0.3, 0.3] x size: standard deviation 0.6 size / sqrt(12)
+        assert abs(start.std() / (0.6 * size / np.sqrt(12)) - 1) < 0.1
+
+
+def test_structure_sizes():
+    """Objects are 40-80 pixels in radius: a full object's points fill a box
+    with half-sides between 0.5 and 1 radius, centred on its origin, of
+    unequal sides; planar and linear objects spread +-radius along their
+    basis."""
+    rng = np.random.RandomState(0)
+    extents, ratios = [], []
+    for _ in range(200):
+        points, basis = _structure("full", 500, rng)
+        assert_array_equal(basis, np.eye(3))
+        extent = np.abs(points).max(axis=0)
+        extents.append(extent)
+        ratios.append(extent.min() / extent.max())
+        assert np.all(np.abs(points.mean(axis=0)) < 0.15 * extent)
+    extents = np.array(extents)
+    assert extents.min() > 18 and extents.max() <= 80
+    assert min(ratios) < 0.6
+    for kind, dim in (("planar", 2), ("linear", 1)):
+        for _ in range(50):
+            points, basis = _structure(kind, 500, rng)
+            assert basis.shape == (3, dim)
+            coefs = points @ basis
+            assert_allclose(coefs @ basis.T, points, atol=1e-9)
+            assert 36 < coefs.max() <= 80 and -80 <= coefs.min() < -36
