@@ -507,3 +507,37 @@ def test_structure_sizes():
             coefs = points @ basis
             assert_allclose(coefs @ basis.T, points, atol=1e-9)
             assert 36 < coefs.max() <= 80 and -80 <= coefs.min() < -36
+
+
+def test_one_point_per_motion_is_enough():
+    """``make_blobs``' rule: each motion needs at least one point, and one is
+    enough, whether ``n_points`` is a total or a list of sizes."""
+    _X, y = make_motions(2, 2, 5, random_state=0)
+    assert_array_equal(np.bincount(y), [1, 1])
+    _X, y = make_motions(2, [1, 5], 5, random_state=0)
+    assert_array_equal(np.bincount(y), [1, 5])
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        (
+            dict(n_points=1),
+            "n_points=1 is smaller than n_motions=2; each motion needs at least "
+            "one point.",
+        ),
+        (
+            dict(n_points=[3, 0]),
+            "n_points must be an int or a sequence of n_motions=2 positive ints, "
+            "got [3, 0].",
+        ),
+        (
+            dict(motion_types=["full"]),
+            "motion_types must be None, one of 'full', 'planar', 'linear', or a "
+            "sequence of n_motions=2 of them, got ['full'].",
+        ),
+    ],
+)
+def test_make_motions_messages(kwargs, message):
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        make_motions(2, **kwargs)

@@ -114,3 +114,34 @@ def test_failed_lowrank_load_names_scikit_learn_s_home(tmp_path, monkeypatch):
     with pytest.raises(FileNotFoundError) as excinfo:
         load_lowrank("Dino")
     assert str(Path(tmp_path) / "scikit_learn_data") in str(excinfo.value)
+
+
+def write_sequence(folder, name, **overrides):
+    """A tiny Hopkins155-style ``<name>/<name>_truth.mat`` (6 points, 4
+    frames, 2 motions); an override of None leaves the variable out."""
+    y = np.ones((3, 6, 4))
+    y[:2] = np.random.RandomState(0).uniform(0, 640, size=(2, 6, 4))
+    data = dict(x=y.copy(), y=y, s=np.array([[1], [2]] * 3, dtype=np.uint8))
+    data.update(overrides)
+    data = {k: v for k, v in data.items() if v is not None}
+    return write_mat(folder / name / f"{name}_truth.mat", **data)
+
+
+def test_hopkins155_messages_name_the_file(tmp_path):
+    path = write_sequence(tmp_path, "seq1", y=None)
+    message = (
+        f"Malformed Hopkins155 file {path}: missing variable 'y' (found ['s', 'x'])."
+    )
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        load_hopkins155(tmp_path)
+    # filtering by the number of motions reads ``s`` first
+    path = write_sequence(tmp_path / "b", "seq2", s=None)
+    message = f"Malformed Hopkins155 file {path}: missing variable 's'."
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        load_hopkins155(tmp_path / "b", n_motions=2)
+    path = tmp_path / "c" / "seq3" / "seq3_truth.mat"
+    path.parent.mkdir(parents=True)
+    path.write_bytes(b"not a mat file")
+    message = f"Could not read Hopkins155 file {path}: "
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}.+"):
+        load_hopkins155(tmp_path / "c", n_motions=2)
