@@ -145,3 +145,67 @@ def test_hopkins155_messages_name_the_file(tmp_path):
     message = f"Could not read Hopkins155 file {path}: "
     with pytest.raises(ValueError, match=f"^{re.escape(message)}.+"):
         load_hopkins155(tmp_path / "c", n_motions=2)
+
+
+def test_hopkins155_capitalised_folder_is_found(tmp_path):
+    write_sequence(tmp_path / "Hopkins155", "seq1")
+    (data,) = load_hopkins155(tmp_path)
+    assert data.name == "seq1"
+
+
+@pytest.mark.parametrize(
+    ("overrides", "problem"),
+    [
+        (dict(bad_x=1), "'x' holds 1 NaN or infinite value; Hopkins155 trajectories"),
+        (dict(bad_y=2), "'y' holds 2 NaN or infinite values; Hopkins155 trajectories"),
+        (
+            dict(s=np.array([[1.0], [1.5]] * 3)),
+            "'s' holds 1.5; labels must be integers.",
+        ),
+        (
+            dict(s=np.array([[0], [1]] * 3)),
+            "'s' must hold 6 labels numbered from 1, got shape (6, 1) and minimum 0.",
+        ),
+        (
+            dict(s=np.array([[2], [3], [2], [3], [2]])),
+            "'s' must hold 6 labels numbered from 1, got shape (5, 1) and minimum 2.",
+        ),
+    ],
+)
+def test_hopkins155_bad_values_are_named(tmp_path, overrides, problem):
+    y = np.ones((3, 6, 4))
+    y[:2] = np.random.RandomState(0).uniform(0, 640, size=(2, 6, 4))
+    x = y.copy()
+    x[0, 0, : overrides.pop("bad_x", 0)] = np.nan
+    y[1, 1, : overrides.pop("bad_y", 0)] = np.inf
+    path = write_sequence(tmp_path, "seq1", x=x, y=y, **overrides)
+    if "trajectories" in problem:
+        problem += " are complete."
+    message = f"Malformed Hopkins155 file {path}: {problem}"
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        load_hopkins155(tmp_path)
+
+
+def test_hopkins155_types_and_the_homogeneous_row(tmp_path):
+    """Integer coordinates are read as float64, labels as integers; the third
+    (homogeneous) row of ``x`` and ``y`` is not read, so NaN there is fine."""
+    y = np.ones((3, 6, 4))
+    y[:2] = np.arange(48).reshape(2, 6, 4)
+    y[2, 0, 0] = np.nan
+    write_sequence(tmp_path, "seq1", x=np.ones((3, 6, 4), dtype=np.int64), y=y)
+    (data,) = load_hopkins155(tmp_path)
+    assert data.X.dtype == np.float64 and data.X_pixels.dtype == np.float64
+    assert data.y.dtype.kind == "i"
+    assert_array_equal(data.y, [0, 1] * 3)
+    assert np.isfinite(data.X_pixels).all()
+
+
+def test_hopkins155_unknown_sequence_lists_three_examples(tmp_path):
+    for name in ("a1", "b2", "c3", "d4"):
+        write_sequence(tmp_path, name)
+    message = (
+        f"Unknown Hopkins155 sequences ['zz'] (not in {tmp_path}); there are 4 "
+        "sequences, e.g. ['a1', 'b2', 'c3']."
+    )
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        load_hopkins155(tmp_path, sequences=["zz"])
