@@ -1,10 +1,16 @@
 """How well ``GPCAClustering(n_clusters="auto")`` finds the number of motions.
 
-For every sequence: ``PowerFactorization(random_state=0)`` projects the
-trajectories to R^5, :func:`sklearn_gpca.gpca` segments the projection into
-``n = 1 .. 5`` subspaces (``random_state=0``, as ``n_clusters="auto"`` does),
-and each criterion keeps one of the five segmentations
-(:func:`sklearn_gpca.select_n_clusters`). Reported per data set and criterion:
+For every sequence: ``PowerFactorization(20, whiten=False,
+random_state=0)`` projects the trajectories to rank 20 (the largest even rank
+<= 20 that the observed entries determine), the whitened leading 5
+directions of that projection are segmented by :func:`sklearn_gpca.gpca` into
+``n = 1 .. 5`` subspaces (``random_state=0``): what
+``make_pipeline(PowerFactorization(20, whiten=False),
+GPCAClustering("auto", segmentation_dim=5))`` fits. Each criterion keeps one of
+the five segmentations (:func:`sklearn_gpca.select_n_clusters`): the
+trajectory coding length on the rank-20 projection (the default with
+``segmentation_dim``), and the coding lengths of the 5-D points segmented (the
+default without it, and the former default). Reported per data set and criterion:
 the confusion of true and found n, the share found right, the mean
 misclassification with the found n (best label matching; extra clusters count
 as errors, as :func:`~sklearn_gpca.metrics.misclassification_rate` does) and
@@ -37,29 +43,63 @@ from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
 from sklearn_gpca import PowerFactorization, gpca
+from sklearn_gpca._coding_length import coding_length
 from sklearn_gpca._model_selection import (
     MIN_MERGE_RATIO,
+    TRAJECTORY_DISTORTION,
     coding_length_cost,
     merge_ratio,
+    trajectory_coding_length_cost,
+)
+from sklearn_gpca._rows import unit_rows
+from sklearn_gpca._segmentation_space import (
+    fit_segmentation_space,
+    to_segmentation_space,
 )
 from sklearn_gpca.datasets import load_hopkins155, make_motions, make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
 MAX_N = 5
+WIDE_RANK = 4 * MAX_N
 
 NOTE = (
-    "Read against the issue's target (>= 90 % on Hopkins155): the "
-    "merge-ratio gate stops most of the over-counting of two-motion "
-    "sequences and cuts the error with the found n, but finds few "
-    "three-motion sequences: in R^5 two of their three motions often lie "
-    "near one hyperplane (merge ratio under 5 with the right labels), and "
-    "then no hyperplane criterion tells them apart. For the same reason the "
-    "gate loses three- to five-motion draws of `make_motions` and "
-    "`make_tracks`, where the plain coding length was better: a trade-off, "
-    "not a free win. The hyperplane energy `E` is trimmed to the 90 % "
-    "best-fitted points (robust to a few misassigned held-out points, which "
-    "`GridSearchCV` scores)."
+    "What was tuned on what: the distortion 0.007 and the width cap (at "
+    "least 4 points per dimension) of the trajectory coding length were "
+    "chosen on the even-indexed Hopkins155 sequences (distortions 0.005, "
+    "0.007, 0.01, 0.015; 3, 4 or 6 points per dimension, or no cap); the "
+    "odd-indexed ones are held out (line below the table). The synthetic "
+    "draws were not used to choose them. The merge-ratio threshold 5 of the "
+    "R^5 default was chosen on Hopkins155 and synthetic draws like these. "
+    "Why the wide projection counts better on real sequences: in the "
+    "whitened R^5 every direction has unit variance, so perspective and "
+    "tracking errors weigh as much as the motions (the coding length there "
+    "splits motions) and two of three motions often lie near one hyperplane "
+    "(the merge-ratio gate then merges them); in the unwhitened rank-20 "
+    "projection these errors keep their small weight and distinct motions "
+    "are distinct subspaces. Where it fails: `make_motions` draws whose "
+    "motions differ only in directions of little energy (slow rotations in "
+    "pixel coordinates whose origin is the image corner: the rank-20 "
+    "projection has about 4 significant directions for 2 to 5 motions) are "
+    "under-counted; only the whitened coding length finds them, and it "
+    "over-counts most real sequences. The unit trajectories depend on the "
+    "image origin: Hopkins155 uses calibrated coordinates centred on the "
+    "principal point; in its pixel coordinates (origin at the corner) the "
+    "trajectory coding length finds the right n on 74 % of the sequences "
+    "(measured once on the same segmentations, not by this script). With "
+    "missing entries the rank-20 completion of 10 frames (20 features, 20 % "
+    "missing on odd `make_motions` seeds) segments worse than rank 5 (error "
+    "with the true n 7.5 % for two motions, 0.15 % with "
+    "`PowerFactorization(5)`), so the R^5 rows of `make_motions` here are "
+    "not the R^5 pipeline's: with `PowerFactorization(5)` the previous run "
+    "of this page found 58 % (distinct coding length) and 88 % (coding "
+    "length) on `make_motions`; the `make_tracks` draws are complete and "
+    "their rows are the same."
 )
+
+
+def wide_at(distortion, points, labels):
+    """The trajectory coding length at another distortion, no width cap."""
+    return coding_length(unit_rows(points), labels, distortion)
 
 
 def distinct_at(threshold, points, labels):
@@ -69,15 +109,42 @@ def distinct_at(threshold, points, labels):
     return coding_length_cost(points, labels)
 
 
-#: name -> criterion(points, labels); the first is the former default.
+DEFAULT = "trajectory coding length, rank 20 (default)"
+
+#: name -> (space, criterion(points, labels)); space "wide" is the rank-20
+#: projection, "5" the whitened 5-D points segmented.
 CRITERIA = {
-    "coding length (former default)": coding_length_cost,
-    f"distinct coding length, merge ratio >= {MIN_MERGE_RATIO:g} (default)": (
-        partial(distinct_at, MIN_MERGE_RATIO)
+    DEFAULT: ("wide", trajectory_coding_length_cost),
+    "trajectory coding length, no width cap": (
+        "wide",
+        partial(wide_at, TRAJECTORY_DISTORTION),
     ),
-    "distinct coding length, merge ratio >= 3": partial(distinct_at, 3.0),
-    "distinct coding length, merge ratio >= 8": partial(distinct_at, 8.0),
+    "trajectory coding length, distortion 0.005, no width cap": (
+        "wide",
+        partial(wide_at, 0.005),
+    ),
+    "trajectory coding length, distortion 0.015, no width cap": (
+        "wide",
+        partial(wide_at, 0.015),
+    ),
+    f"distinct coding length in R^5, merge ratio >= {MIN_MERGE_RATIO:g} "
+    "(default without segmentation_dim)": ("5", partial(distinct_at, MIN_MERGE_RATIO)),
+    "coding length in R^5 (former default)": ("5", coding_length_cost),
 }
+
+
+def wide_projection(X):
+    """Unwhitened PowerFactorization at rank 20, or the largest even rank the
+    observed entries determine."""
+    rank = min(WIDE_RANK, *X.shape)
+    while True:
+        try:
+            pf = PowerFactorization(rank, whiten=False, random_state=0)
+            return pf.fit_transform(X)
+        except ValueError:
+            if rank <= 6:
+                raise
+            rank -= 2
 
 
 def run_one(X, y, n_true):
@@ -85,8 +152,9 @@ def run_one(X, y, n_true):
     threadpool_limits(1)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        Z = PowerFactorization(random_state=0).fit_transform(X)
         start = time.perf_counter()
+        wide = wide_projection(X)
+        Z = to_segmentation_space(wide, *fit_segmentation_space(wide, 5))
         segmentations = {}
         for n in range(1, MAX_N + 1):
             try:
@@ -96,9 +164,10 @@ def run_one(X, y, n_true):
         fits = time.perf_counter() - start
     true_error = misclassification_rate(y, segmentations[n_true])
     rows = {}
-    for name, criterion in CRITERIA.items():
+    for name, (space, criterion) in CRITERIA.items():
         start = time.perf_counter()
-        costs = [criterion(Z, labels) for labels in segmentations.values()]
+        points = wide if space == "wide" else Z
+        costs = [criterion(points, labels) for labels in segmentations.values()]
         found = int(np.argmin(costs)) + 1
         seconds = fits + time.perf_counter() - start
         error = misclassification_rate(y, segmentations[found])
@@ -176,7 +245,7 @@ def main():
         "make_motions": motions_items(args.seeds),
         "make_tracks (lab)": tracks_items(args.seeds),
     }
-    summary, details = [], []
+    summary, details, held_out = [], [], ""
     for dataset, items in datasets.items():
         start = time.perf_counter()
         runs = Parallel(n_jobs=args.jobs)(delayed(run_one)(*item) for item in items)
@@ -186,6 +255,14 @@ def main():
             summary.append(summary_row(dataset, name, results))
             print(summary[-1], flush=True)
             details += ["", f"### {dataset}: {name}", "", *confusion_table(results)]
+        if dataset == "Hopkins155" and args.step == 1:
+            right = [run[DEFAULT][0] == run[DEFAULT][1] for run in runs]
+            held_out = (
+                "Default on Hopkins155: right n on "
+                f"{sum(right[::2])} / {len(right[::2])} even-indexed sequences "
+                f"(where its two constants were chosen) and {sum(right[1::2])} / "
+                f"{len(right[1::2])} odd-indexed ones (held out)."
+            )
     subset = "" if args.step == 1 else f" (every {args.step}th sequence)"
     lines = [
         "# The number of motions: `GPCAClustering(n_clusters='auto')`",
@@ -194,12 +271,21 @@ def main():
         f"../shared/data/hopkins155 --jobs {args.jobs} --step {args.step} "
         f"--seeds {args.seeds}`{subset}.",
         "",
-        "`PowerFactorization(random_state=0)` projects each sequence to R^5; "
-        "`gpca(Z, n, random_state=0)` segments it into n = 1 .. 5 subspaces "
-        "(what `GPCAClustering('auto')` fits); each criterion keeps one. "
+        "`PowerFactorization(20, whiten=False, random_state=0)` projects each "
+        "sequence to rank 20 (on a few `make_motions` draws with missing "
+        "entries, 18 or less: the largest even rank the observed entries "
+        "determine); `gpca(Z, n, random_state=0)` segments the whitened leading "
+        "5 directions Z of that projection into n = 1 .. 5 subspaces (what "
+        "`make_pipeline(PowerFactorization(20, whiten=False), "
+        "GPCAClustering('auto', segmentation_dim=5))` fits; with complete data Z "
+        "is `PowerFactorization(5)`'s projection); each criterion keeps one. "
+        "The trajectory coding length (`sklearn_gpca."
+        "trajectory_coding_length_cost`) is measured on the rank-20 "
+        "projection, the others on Z. "
         "Errors are mean misclassification over the sequences with the found n "
         "(extra clusters count as errors) and, for reference, with the true n. "
-        "Time: median wall seconds of the five fits and the criterion per "
+        "Time: median wall seconds of the rank-20 projection, the five fits "
+        "and the criterion per "
         "sequence (one thread per job, 2 jobs on a shared 2-core machine).",
         "",
         f"Synthetic draws, {args.seeds} per n: `make_motions(n, n_points=100 * n, "
@@ -209,11 +295,7 @@ def main():
         "|---|---|---|---|---|",
         *summary,
         "",
-        "The merge ratio of two groups is `E(a | b) / (E(a) + E(b))`, `E` the "
-        "squared sines of a set's unit points to its best hyperplane "
-        "(`sklearn_gpca.merge_ratio`). The default threshold, 5, was chosen "
-        "on Hopkins155 and on synthetic draws like these (tuned, no held-out "
-        "part); the rows at 3 and 8 show how much it matters.",
+        held_out,
         "",
         NOTE,
         "",

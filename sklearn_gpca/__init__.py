@@ -16,6 +16,7 @@ from sklearn_gpca._model_selection import (
     merge_ratio,
     select_n_clusters,
     sine_likelihood_cost,
+    trajectory_coding_length_cost,
 )
 from sklearn_gpca._motion import estimate_motions
 from sklearn_gpca._motion_segmentation import MotionSegmentation
@@ -50,4 +51,5 @@ __all__ = [
     "select_n_clusters",
     "shape_interaction_matrix",
     "sine_likelihood_cost",
+    "trajectory_coding_length_cost",
 ]

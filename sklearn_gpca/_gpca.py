@@ -10,7 +10,8 @@ of its own module:
 2. the normals at each point (:mod:`sklearn_gpca._normals`);
 3. the affinity candidates (:mod:`sklearn_gpca._candidates`);
 4. the refinement (:mod:`sklearn_gpca._ksubspaces`);
-5. the selection (:mod:`sklearn_gpca._selection`);
+5. the selection (:mod:`sklearn_gpca._selection`, with the votes of
+   :mod:`sklearn_gpca._voting`);
 6. the extension from a subsample (:mod:`sklearn_gpca._extension`);
 
 and the estimator validates, calls it, and stores what it returns.
@@ -50,6 +51,10 @@ from sklearn_gpca._model_selection import (
 from sklearn_gpca._normals import POINT_NORMALS, point_normal_bases
 from sklearn_gpca._polynomials import unit_gradients, vanishing_polynomials
 from sklearn_gpca._rows import canonical_sign, power_of_two_scale, unit_rows
+from sklearn_gpca._segmentation_space import (
+    fit_segmentation_space,
+    to_segmentation_space,
+)
 from sklearn_gpca._selection import select_candidate
 from sklearn_gpca._spectral import (
     normal_subspace_features,
@@ -62,6 +67,7 @@ from sklearn_gpca._subspaces import (
 )
 from sklearn_gpca._validation import Count
 from sklearn_gpca._veronese import n_monomials, veronese_exponents
+from sklearn_gpca._voting import VOTING_ROUNDS, vote_cut, vote_features, voting_runs
 
 _PARAMETER_CONSTRAINTS = {
     "normalize": ["boolean"],
@@ -71,6 +77,7 @@ _PARAMETER_CONSTRAINTS = {
     "affinity_power": [Count(1, None, closed="left")],
     "init": [StrOptions({"multi", "spectral"})],
     "n_init": [Count(1, None, closed="left")],
+    "n_votes": [Count(0, None, closed="left")],
     "refine": ["boolean"],
     "smoothing": [Interval(Real, 0, None, closed="left")],
     "subspace_dim": [
@@ -131,6 +138,15 @@ default="local"
         the time column of ``benchmarks/results/ablation.md`` compares them.
     n_init : int, default=10
         Number of k-means runs on each spectral embedding.
+    n_votes : int, default=100
+        Number ``R`` of randomized-voting runs (beyond the paper; Jung, Ju &
+        Kim, CVPR 2014) behind the selection of ``init="multi"`` (stage 5):
+        each run is plain K-subspaces from ``n_clusters`` subspaces spanned
+        by a random point and its nearest neighbours, and votes for the pairs
+        of points it puts together. The kept candidate minimises the
+        normalised cut on the polynomial-normal graph plus the normalised cut
+        on this vote graph. 0 selects by the first cut alone. Time and memory
+        ``O(n R n_clusters)`` on the ``n`` segmented points.
     refine : bool, default=True
         Refine each candidate by smoothed K-subspaces (stage 4): alternately
         fit one subspace per cluster and reassign the points. The paper uses
@@ -344,6 +360,15 @@ def _subspace_dim(p, unit):
     return unit.shape[1] - 1 if p["subspace_dim"] is None else p["subspace_dim"]
 
 
+def _voting_dim(p, unit):
+    """Dimension of the voting runs' subspaces: ``subspace_dim`` if an int,
+    else hyperplanes."""
+    dim = p["subspace_dim"]
+    if dim is None or dim == "auto":
+        return unit.shape[1] - 1
+    return min(dim, unit.shape[1] - 1)
+
+
 def _refinement(p):
     """Keyword arguments of :func:`k_subspaces` from the parameters."""
     return dict(
@@ -373,6 +398,21 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
             refined.append(labels)
             n_iter, converged = max(n_iter, iterations), converged and settled
         candidates = refined
+    vote_cuts = None
+    if graph is not None and p["n_votes"] > 0:
+        votes = vote_features(
+            voting_runs(
+                unit,
+                n_clusters,
+                local,
+                n_runs=p["n_votes"],
+                dim=_voting_dim(p, unit),
+                n_iter=VOTING_ROUNDS,
+                random_state=random_state,
+            ),
+            n_clusters,
+        )
+        vote_cuts = np.array([vote_cut(votes, c, n_clusters) for c in candidates])
     chosen, cuts, residuals = select_candidate(
         unit,
         candidates,
@@ -380,13 +420,17 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
         graph=graph,
         subspace_dim=_subspace_dim(p, unit),
         subspace_dim_tol=p["subspace_dim_tol"],
+        vote_cuts=vote_cuts,
     )
+    if vote_cuts is None:
+        vote_cuts = np.full(len(candidates), np.nan)
     return Bunch(
         labels=candidates[chosen],
         point_normals=bases[:, :, 0],
         local_neighbors=local,
         candidate_labels=np.array(candidates),
         candidate_ncuts=cuts,
+        candidate_vote_cuts=vote_cuts,
         candidate_residuals=residuals,
         chosen_candidate=chosen,
         selection_graph=graph,
@@ -438,6 +482,7 @@ def gpca(
     affinity_power=4,
     init="multi",
     n_init=10,
+    n_votes=100,
     refine=True,
     smoothing=5.0,
     subspace_dim=None,
@@ -481,8 +526,9 @@ def gpca(
           none otherwise);
         - ``candidate_labels``, ndarray of shape (n_candidates,
           len(segmented)): the refined candidates;
-        - ``candidate_ncuts``, ``candidate_residuals``, ndarray of shape
-          (n_candidates,), and ``chosen_candidate``, int: the selection;
+        - ``candidate_ncuts``, ``candidate_vote_cuts``,
+          ``candidate_residuals``, ndarray of shape (n_candidates,), and
+          ``chosen_candidate``, int: the selection;
         - ``selection_graph``: the sparse graph of the cuts, or None;
         - ``local_neighbors``, ndarray of shape (len(segmented), n_local):
           the neighbourhoods of the smoothing, or None;
@@ -607,19 +653,48 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         polynomial. ``"auto"`` (beyond the paper) fits every ``n`` from 1 to
         ``max_clusters`` and keeps the segmentation with the lowest
         ``criterion`` (:func:`select_n_clusters`); see ``n_clusters_`` and
-        ``n_clusters_costs_``. With the default criterion it is the shortest
-        coding length among the segmentations whose groups are distinct
-        hyperplanes (merge ratio at least 5, chosen on Hopkins155 and
-        synthetic draws); ``benchmarks/results/n_motions.md`` measures it.
+        ``n_clusters_costs_``. To count motions, give it the unwhitened
+        trajectories of rank ``4 * max_clusters`` and segment them in
+        :math:`R^5` with ``segmentation_dim=5``::
+
+            make_pipeline(PowerFactorization(20, whiten=False),
+                          GPCAClustering("auto", segmentation_dim=5))
+
+        The default criterion is then the coding length of the trajectories
+        in that wide projection (:func:`trajectory_coding_length_cost`);
+        without ``segmentation_dim`` it is the coding length of the segmented
+        points among the segmentations whose groups are distinct
+        hyperplanes (:func:`distinct_coding_length_cost`). On Hopkins155 the
+        first finds the number of motions on 88 % of the sequences, the
+        second on 73 % (it merges two of three motions); both under-count
+        synthetic motions that differ only in directions of little energy,
+        and the first expects image coordinates centred near the image
+        (calibrated, or the principal point subtracted): with the origin at
+        the image corner it finds 74 % of Hopkins155.
+        ``benchmarks/results/n_motions.md`` measures both.
     max_clusters : int, default=5
         Largest number of subspaces tried by ``n_clusters="auto"``; ignored
         otherwise. Values whose Veronese embedding needs more points than
         there are are skipped.
-    criterion : {"distinct_coding_length", "coding_length", \
-"sine_likelihood"} or callable, default="distinct_coding_length"
+    segmentation_dim : int or None, default=None
+        Segment the points in their ``segmentation_dim`` leading principal
+        directions (not centred), whitened: for complete trajectories, the
+        coordinates of ``PowerFactorization(segmentation_dim)``. The polynomial,
+        the normals, the subspaces, the reference points and ``predict``
+        work there; ``n_clusters="auto"`` and ``score`` judge the
+        segmentation on the input points. None segments the input as it is.
+        At least 2, at most ``min(n_samples, n_features)``.
+    criterion : {"auto", "trajectory_coding_length", \
+"distinct_coding_length", "coding_length", "sine_likelihood"} or callable, \
+default="auto"
         The model-selection criterion of ``n_clusters="auto"`` and ``score``:
-        ``criterion(points, labels) -> cost``, lower is better (see
-        :func:`select_n_clusters`). ``"distinct_coding_length"``:
+        ``criterion(points, labels) -> cost`` on the input points, lower is
+        better (see :func:`select_n_clusters`). ``"auto"``:
+        ``"trajectory_coding_length"`` with ``segmentation_dim``,
+        ``"distinct_coding_length"`` without. ``"trajectory_coding_length"``:
+        :func:`trajectory_coding_length_cost`, the coding length of unit
+        trajectories in a wide unwhitened projection.
+        ``"distinct_coding_length"``:
         :func:`distinct_coding_length_cost`, the coding length, ``inf`` when
         two groups are not distinct subspaces (:func:`merge_ratio` below 5);
         ``"coding_length"``: :func:`coding_length_cost` alone, which prefers
@@ -675,11 +750,16 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Normalised cut of each (refined) candidate segmentation on the graph
         of the polynomial's gradients, lower is better; NaN with a single
         candidate, which is not selected.
+    candidate_vote_cuts_ : ndarray of shape (n_candidates,)
+        Normalised cut of each (refined) candidate on the vote graph of the
+        ``n_votes`` randomized-voting runs, between 0 and ``n_clusters``,
+        lower is better; NaN with ``n_votes=0`` or a single candidate.
     candidate_residuals_ : ndarray of shape (n_candidates,)
         Sum of squared sine distances of the (unit) points to their cluster's
         fitted subspace, for each candidate, lower is better. The kept
-        candidate has the smallest ``candidate_ncuts_`` among those within a
-        factor 3 of the smallest residual (see Notes).
+        candidate has the smallest ``candidate_ncuts_ +
+        candidate_vote_cuts_`` (``candidate_ncuts_`` with ``n_votes=0``)
+        among those within a factor 3 of the smallest residual (see Notes).
     chosen_candidate_ : int
         Index of the kept candidate: ``2 g + s`` with graph ``g`` (0: the
         affinity graph, 1: its coarse scale, 2: the product graph; the coarse
@@ -701,6 +781,16 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         Exponents of the monomials of degree ``n_clusters_``; ``n_monomials =
         C(n_clusters_ + n_features - 1, n_clusters_)``. The polynomial at ``w``
         is ``coef_ @ np.prod(w ** exponents_, axis=1)``.
+    segmentation_components_ : ndarray of shape (segmentation_dim, \
+n_features_in_) or None
+        With ``segmentation_dim``: the leading principal directions of the
+        training points (not centred), in which they are segmented; the
+        other attributes' ``n_features`` is then ``segmentation_dim``. None
+        otherwise.
+    segmentation_scale_ : ndarray of shape (segmentation_dim,) or None
+        The singular values of the training points along
+        ``segmentation_components_``: a point ``x`` is segmented at
+        ``segmentation_components_ @ x / segmentation_scale_``.
     n_features_in_ : int
         Number of features seen during :term:`fit`.
     feature_names_in_ : ndarray of shape (n_features_in_,)
@@ -768,12 +858,19 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     With ``init="multi"`` the refinement runs from six spectral
     initialisations and keeps the labels ``l`` minimising the normalised cut
     ``sum_k cut(C_k, rest) / vol(C_k)`` on the kNN graph weighted by the
-    polynomial gradients (the paper's normals, power ``q``), among the
-    candidates whose residual is at most 3 times the smallest: where two
-    motions overlap in :math:`R^5` the cut alone can prefer merging them and
-    splitting a third one in two, a segmentation whose hyperplanes fit
-    several times worse. ``benchmarks/results/selection.md`` measures how
-    the cut and the residual agree with the error on Hopkins155.
+    polynomial gradients (the paper's normals, power ``q``) plus the
+    normalised cut on the vote graph of randomized voting (Jung, Ju & Kim,
+    CVPR 2014), among the candidates whose residual is at most 3 times the
+    smallest: where two motions overlap in :math:`R^5` the kNN cut alone can
+    prefer merging them and splitting a third one in two, a segmentation
+    whose hyperplanes fit several times worse. The vote graph is global:
+    ``R = n_votes`` runs of plain K-subspaces (five rounds), each from
+    ``n`` hyperplanes spanned by a random point and ``K - 2`` of its
+    ``k / 3`` nearest neighbours, and ``V_ij`` the number of runs that put
+    ``i`` and ``j`` together. ``V = B B^T`` with ``B`` the ``P x R n``
+    one-hot matrix of the runs' labels, so its cut costs ``O(P R n)``.
+    ``benchmarks/results/selection.md`` measures how the cuts and the
+    residual agree with the error on Hopkins155.
 
     Large ``n_samples`` (beyond the paper). The Lanczos iterations on the
     kNN graph grow faster than linearly with ``P`` and the exact neighbour
@@ -822,7 +919,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             StrOptions({"auto"}),
         ],
         "max_clusters": [Count(1, None, closed="left")],
-        "criterion": [StrOptions(set(CRITERIA)), callable],
+        "segmentation_dim": [Count(2, None, closed="left"), None],
+        "criterion": [StrOptions({"auto", *CRITERIA}), callable],
         **_PARAMETER_CONSTRAINTS,
     }
 
@@ -831,7 +929,8 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         n_clusters=2,
         *,
         max_clusters=5,
-        criterion="distinct_coding_length",
+        segmentation_dim=None,
+        criterion="auto",
         normalize=True,
         point_normals="local",
         affinity="nearest_neighbors",
@@ -839,6 +938,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         affinity_power=4,
         init="multi",
         n_init=10,
+        n_votes=100,
         refine=True,
         smoothing=5.0,
         subspace_dim=None,
@@ -851,6 +951,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
     ):
         self.n_clusters = n_clusters
         self.max_clusters = max_clusters
+        self.segmentation_dim = segmentation_dim
         self.criterion = criterion
         self.normalize = normalize
         self.point_normals = point_normals
@@ -859,6 +960,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self.affinity_power = affinity_power
         self.init = init
         self.n_init = n_init
+        self.n_votes = n_votes
         self.refine = refine
         self.smoothing = smoothing
         self.subspace_dim = subspace_dim
@@ -883,8 +985,45 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
 
     def _gpca_params(self):
         params = self.get_params()
-        del params["n_clusters"], params["max_clusters"], params["criterion"]
+        for name in ("n_clusters", "max_clusters", "segmentation_dim", "criterion"):
+            del params[name]
         return params
+
+    def _criterion(self):
+        if self.criterion != "auto":
+            return criterion_function(self.criterion)
+        wide = self.segmentation_dim is not None
+        return CRITERIA[
+            "trajectory_coding_length" if wide else "distinct_coding_length"
+        ]
+
+    def _segment(self, X, Z):
+        """The fit of ``n_clusters`` on ``Z``, and the criterion of each n
+        judged on ``X`` with ``n_clusters="auto"`` (else None)."""
+        if self.n_clusters == "auto":
+            return self._select_n_clusters(X, Z)
+        return _gpca(Z, self.n_clusters, self._gpca_params()), None
+
+    def _fit_segmentation_space(self, X):
+        """Directions and scales of the segmentation space (None without
+        ``segmentation_dim``) and the points to segment."""
+        if self.segmentation_dim is None:
+            return None, None, X
+        if self.segmentation_dim > min(X.shape):
+            raise ValueError(
+                f"segmentation_dim={self.segmentation_dim} exceeds the "
+                f"n_samples={X.shape[0]} or n_features={X.shape[1]} of X: "
+                "X has at most min(n_samples, n_features) principal directions."
+            )
+        components, scale = fit_segmentation_space(X, self.segmentation_dim)
+        return components, scale, to_segmentation_space(X, components, scale)
+
+    def _to_segmentation_space(self, X):
+        if self.segmentation_components_ is None:
+            return X
+        return to_segmentation_space(
+            X, self.segmentation_components_, self.segmentation_scale_
+        )
 
     def _feasible_n_clusters(self, X):
         """``1 .. max_clusters`` while the Veronese embedding has enough points.
@@ -901,17 +1040,18 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             feasible.append(n)
         return feasible
 
-    def _select_n_clusters(self, X):
-        """``n_clusters="auto"``: :func:`select_n_clusters` over the feasible n."""
-        feasible = self._feasible_n_clusters(X)
+    def _select_n_clusters(self, X, Z):
+        """``n_clusters="auto"``: :func:`select_n_clusters` over the feasible n,
+        segmenting ``Z`` and judging the labels on ``X``."""
+        feasible = self._feasible_n_clusters(Z)
         params = self._gpca_params()
 
         def segment(n):
-            result = _gpca(X, n, params)
+            result = _gpca(Z, n, params)
             return X, result.labels, result
 
         best, costs, results = select_n_clusters(
-            segment, feasible, criterion=self.criterion
+            segment, feasible, criterion=self._criterion()
         )
         all_costs = np.full(self.max_clusters, np.inf)
         all_costs[: len(feasible)] = costs
@@ -934,10 +1074,11 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             Fitted estimator.
         """
         X = self._validate_X(X, reset=True)
-        if self.n_clusters == "auto":
-            result, self.n_clusters_costs_ = self._select_n_clusters(X)
-        else:
-            result = _gpca(X, self.n_clusters, self._gpca_params())
+        *space, Z = self._fit_segmentation_space(X)
+        self.segmentation_components_, self.segmentation_scale_ = space
+        result, costs = self._segment(X, Z)
+        if costs is not None:
+            self.n_clusters_costs_ = costs
         self.n_clusters_ = len(result.subspace_bases)
         self.labels_ = result.labels
         self.normals_ = result.normals
@@ -946,13 +1087,14 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         self.polynomials_ = result.polynomials
         self.coef_ = result.polynomials[0]
         self.n_polynomials_ = result.polynomials.shape[0]
-        self.exponents_ = veronese_exponents(X.shape[1], self.n_clusters_)
+        self.exponents_ = veronese_exponents(Z.shape[1], self.n_clusters_)
         self.n_spectral_samples_ = result.segmented.size
         self.n_iter_ = result.n_iter
         self.candidate_ncuts_ = result.candidate_ncuts
+        self.candidate_vote_cuts_ = result.candidate_vote_cuts
         self.candidate_residuals_ = result.candidate_residuals
         self.chosen_candidate_ = result.chosen_candidate
-        self.reference_points_ = unit_rows(X[result.reference])
+        self.reference_points_ = unit_rows(Z[result.reference])
         self.reference_labels_ = self.labels_[result.reference]
         self.residual_scale_ = result.residual_scale
         return self
@@ -982,7 +1124,7 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
             The origin, which lies on every subspace, gets label 0.
         """
         check_is_fitted(self)
-        X = self._validate_X(X, reset=False)
+        X = self._to_segmentation_space(self._validate_X(X, reset=False))
         unit = unit_rows(X)
         n_reference = self.reference_points_.shape[0]
         neighbor_labels, smoothing = None, 0.0
@@ -1033,5 +1175,5 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         """
         check_is_fitted(self)
         X = self._validate_X(X, reset=False)
-        cost = criterion_function(self.criterion)(X, self.predict(X))
+        cost = self._criterion()(X, self.predict(X))
         return -cost / X.shape[0]

@@ -9,7 +9,12 @@ Two measures of a candidate labelling ``l`` of unit points ``x_i``:
   weighted by the polynomial's gradients (the paper's normals): how well the
   clusters separate on an affinity the candidates were not all built from.
 
-The cut picks the segmentation; the residual is a gate. A candidate whose
+The cut picks the segmentation; the residual is a gate. The kNN graph sees
+only neighbourhoods; with randomized voting (:mod:`sklearn_gpca._voting`)
+the normalised cut on the vote graph, whose edges join points that many
+K-subspaces runs put together anywhere on the sphere, is added to it: a
+candidate merging two subspaces that the kNN graph barely separates cuts
+through many votes. A candidate whose
 subspaces fit ``fit_gate`` times worse than the best one has merged two
 subspaces (and split another): it is not ``n`` subspaces, whatever its cut.
 """
@@ -63,6 +68,7 @@ def select_candidate(
     subspace_dim,
     subspace_dim_tol,
     fit_gate=FIT_GATE,
+    vote_cuts=None,
 ):
     """The candidate with the smallest normalised cut among those that fit.
 
@@ -78,6 +84,10 @@ def select_candidate(
     fit_gate : float, default=3.0
         Candidates whose residual exceeds ``fit_gate`` times the smallest are
         not considered.
+    vote_cuts : ndarray of shape (n_candidates,) or None, default=None
+        Normalised cut of each candidate on a second affinity, e.g. the vote
+        graph of :mod:`sklearn_gpca._voting`; when given, the kept candidate
+        minimises ``cuts + vote_cuts`` (among those that fit).
 
     Returns
     -------
@@ -108,6 +118,15 @@ def select_candidate(
     if graph is None:
         return 0, np.full(len(candidates), np.nan), residuals
     cuts = np.array([normalized_cut(graph, c, n_clusters) for c in candidates])
+    score = cuts
+    if vote_cuts is not None:
+        vote_cuts = np.asarray(vote_cuts, dtype=float)
+        if vote_cuts.shape != cuts.shape:
+            raise ValueError(
+                f"vote_cuts has shape {vote_cuts.shape}, expected one value per "
+                f"candidate: {cuts.shape}."
+            )
+        score = cuts + vote_cuts
     admissible = residuals <= fit_gate * residuals.min()
-    chosen = int(np.argmin(np.where(admissible, cuts, np.inf)))
+    chosen = int(np.argmin(np.where(admissible, score, np.inf)))
     return chosen, cuts, residuals

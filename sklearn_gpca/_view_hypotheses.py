@@ -15,6 +15,12 @@ the image) so that a small object gets pure samples about as often as the
 background, in proportion to its tracks rather than to the square or the
 eighth power of its share. A track's votes count only among the hypotheses of
 frames where it is observed, so partial tracks count wherever they are seen.
+
+Guided samples (a second round, after a first clustering) draw the others
+among the seed's co-visible tracks that voted most like it, and seeds in
+inverse proportion to the size of their first-round cluster: the guided
+sampling of Chin, Yu & Suter (Multi-GS, IEEE TPAMI 2012) with balanced seeds,
+so that small motions get as many pure hypotheses as the dominant one.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -100,6 +106,53 @@ def local_samples(positions, size, n_samples, n_neighbors, rng):
     return np.c_[seeds, np.take_along_axis(neighbors, picks, axis=1)]
 
 
+def guided_samples(preferences, size, n_samples, n_neighbors, rng, seed_weights=None):
+    """Samples of tracks that vote alike: a seed and its most alike tracks.
+
+    Parameters
+    ----------
+    preferences : sparse array of shape (n_points, n_columns)
+        Earlier votes of the candidate tracks (rows); the similarity of two
+        tracks is the inner product of their rows (their co-votes).
+    size : int
+        Points per sample, at most ``n_points``.
+    n_samples : int
+        Number of samples.
+    n_neighbors : int
+        The other members are drawn without replacement among the seed's
+        ``n_neighbors`` most similar points (clipped to ``[size - 1,
+        n_points - 1]``); ties are broken at random.
+    rng : RandomState
+    seed_weights : ndarray of shape (n_points,), default=None
+        Probabilities (up to a factor) of drawing each point as a seed;
+        None: uniform. Must have a positive sum.
+
+    Returns
+    -------
+    samples : ndarray of shape (n_samples, size), dtype=intp
+        Indices into the rows of ``preferences``, distinct within each sample.
+    """
+    n_points = preferences.shape[0]
+    if seed_weights is None:
+        seeds = rng.randint(n_points, size=n_samples)
+    else:
+        seeds = rng.choice(
+            n_points, size=n_samples, p=seed_weights / seed_weights.sum()
+        )
+    if size == 1:
+        return seeds[:, None]
+    n_neighbors = int(np.clip(n_neighbors, size - 1, n_points - 1))
+    similarity = preferences[seeds] @ preferences.T
+    similarity = similarity.toarray() if sparse.issparse(similarity) else similarity
+    # random tie-breaking below the smallest non-zero difference of co-votes
+    similarity = np.asarray(similarity, dtype=np.float64)
+    similarity += 1e-9 * np.abs(similarity).max() * rng.random_sample(similarity.shape)
+    similarity[np.arange(n_samples), seeds] = -np.inf
+    neighbors = np.argpartition(-similarity, n_neighbors - 1, axis=1)[:, :n_neighbors]
+    picks = np.argsort(rng.random_sample(neighbors.shape), axis=1)[:, : size - 1]
+    return np.c_[seeds, np.take_along_axis(neighbors, picks, axis=1)]
+
+
 def _two_view_residuals(model, points1, points2, samples):
     fit, sampson = {
         "fundamental": (fit_fundamental, sampson_fundamental),
@@ -163,7 +216,17 @@ def _views(model, observed, gaps, window):
 
 
 def preference_votes(
-    X, model, *, n_hypotheses, top, gaps, window, n_neighbors, random_state
+    X,
+    model,
+    *,
+    n_hypotheses,
+    top,
+    gaps,
+    window,
+    n_neighbors,
+    random_state,
+    preferences=None,
+    seed_weights=None,
 ):
     """Sparse votes of every track for the hypotheses of one model.
 
@@ -185,8 +248,15 @@ def preference_votes(
     window : int
         Frames per window of the subspace model, at least 3.
     n_neighbors : int
-        Locality of the samples (see :func:`local_samples`).
+        Locality of the samples (see :func:`local_samples` and
+        :func:`guided_samples`).
     random_state : RandomState
+    preferences : sparse array of shape (n_samples, n_columns), default=None
+        Earlier votes: if given, samples are guided by them
+        (:func:`guided_samples`) instead of local in the image.
+    seed_weights : ndarray of shape (n_samples,), default=None
+        With ``preferences``, how likely each track is drawn as a seed
+        (positive; None: uniform).
 
     Returns
     -------
@@ -211,9 +281,19 @@ def preference_votes(
         if members.size <= size:
             continue
         coords = X[np.ix_(members, np.c_[2 * frames, 2 * frames + 1].ravel())]
-        samples = local_samples(
-            coords[:, :2], size, n_hypotheses, n_neighbors, random_state
-        )
+        if preferences is None:
+            samples = local_samples(
+                coords[:, :2], size, n_hypotheses, n_neighbors, random_state
+            )
+        else:
+            samples = guided_samples(
+                preferences[members],
+                size,
+                n_hypotheses,
+                n_neighbors,
+                random_state,
+                None if seed_weights is None else seed_weights[members],
+            )
         if model == "subspace":
             residuals = _subspace_residuals(coords, samples)
         else:

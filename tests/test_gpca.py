@@ -355,10 +355,9 @@ def test_init_candidates(init):
         residuals = model.candidate_residuals_
         admissible = residuals <= 3 * residuals.min()
         assert admissible[model.chosen_candidate_]
-        assert (
-            model.candidate_ncuts_[model.chosen_candidate_]
-            == model.candidate_ncuts_[admissible].min()
-        )
+        # the normalised cuts on the kNN graph and on the vote graph
+        score = model.candidate_ncuts_ + model.candidate_vote_cuts_
+        assert score[model.chosen_candidate_] == score[admissible].min()
 
 
 def test_fit_gate_rejects_merged_motions():
@@ -466,7 +465,7 @@ def test_function_and_estimator_share_defaults():
     function = inspect.signature(gpca).parameters
     estimator = inspect.signature(GPCAClustering).parameters
     shared = set(function) - {"X"}
-    assert shared == set(estimator) - {"max_clusters", "criterion"}
+    assert shared == set(estimator) - {"max_clusters", "criterion", "segmentation_dim"}
     for name in shared:
         assert function[name].default == estimator[name].default, name
     for name, parameter in inspect.signature(k_subspaces).parameters.items():
