@@ -9,8 +9,10 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
+from sklearn.utils import Bunch
 
 from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.datasets._track_geometry import visibility
 from sklearn_gpca.datasets._track_lifetimes import (
     birth_probabilities,
     first_frame_share,
@@ -517,3 +519,88 @@ def test_switching_outliers_are_seen_two_frames_each_side(n_frames, missing):
     assert np.all(end[walks] - birth[walks] >= 3)
     if n_frames == 3:
         assert not switching.any()
+
+
+def _yaw(rotations):
+    """Yaw angles of rotations about the vertical (y) axis."""
+    return np.arctan2(rotations[..., 0, 2], rotations[..., 2, 2])
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_driving_scene_puts_cars_in_lanes(seed):
+    """The driving scene's layout at frame 0 (camera at the origin, heading
+    +z): three lanes 3.5 m apart (a road lane's width); oncoming traffic in the
+    left lane (x = -3.5 m, +-0.4 m), 15-45 m ahead, heading at the camera (yaw
+    pi, spread 0.02 rad); the other cars 8-30 m ahead along the camera's
+    heading. Their lateral and depth positions carry smooth noise of 0.1 m and
+    0.3 m (bounds below at 5 standard deviations)."""
+    p = SCENES["driving"]
+    world = make_scene(
+        "driving",
+        5,
+        5,
+        p["forward_speed"],
+        p["focal_length"],
+        p["image_size"],
+        p.get("depth_range"),
+        p["frame_rate"],
+        np.random.default_rng(seed),
+    )
+    assert_allclose(world.camera_centres[0, [0, 2]], 0.0, atol=1e-12)
+    assert_allclose(_yaw(world.camera_rotations[0]), 0.0, atol=1e-12)
+    x, z = world.object_centres[:, 0, 0], world.object_centres[:, 0, 2]
+    yaw = _yaw(world.object_rotations[:, 0])
+    oncoming = np.cos(yaw) < 0
+    turn = np.angle(np.exp(1j * (yaw - np.pi)))
+    assert np.all(np.abs(turn[oncoming]) < 0.1)
+    assert np.all((x[oncoming] >= -3.9) & (x[oncoming] <= -3.1))
+    assert np.all((z[oncoming] >= 15) & (z[oncoming] <= 45))
+    ahead = ~oncoming
+    assert np.all(np.abs(yaw[ahead]) < 0.02)
+    lane_offset = np.min(np.abs(x[ahead, None] - [-3.5, 0.0, 3.5]), axis=1)
+    assert np.all(lane_offset <= 0.4 + 0.5)
+    assert np.all((z[ahead] >= 8 - 1.5) & (z[ahead] <= 30 + 1.5))
+
+
+def test_visibility_hides_points_behind_the_other_motions_occluders():
+    """A point is in view when in front of the near plane and inside the
+    image; it is visible unless another motion's occluder (a convex pixel
+    region at a depth) covers its pixel from in front. A motion's own
+    occluder never hides its points."""
+    camera = Bunch(width=100, height=50, near=0.5)
+    # pixels (x, y) and depths of five points in one frame
+    pixels = np.array([[15, 15], [15, 15], [40, 15], [150, 15], [15, 15]], float)
+    depth = np.array([10.0, 3.0, 10.0, 10.0, -1.0])
+    cam_points = np.column_stack([pixels, depth])[:, None, :]
+    pixels = pixels[:, None, :]
+    # the square 10 <= x, y <= 20 at depth 5: rows a, b, c of a x + b y + c <= 0
+    square = np.array([[-1, 0, 10], [1, 0, -20], [0, -1, 10], [0, 1, -20]], float)
+    occluders = [[(square, 5.0)], [None]]
+    in_view, visible = visibility(cam_points, pixels, None, 2, occluders, camera, None)
+    assert_array_equal(in_view[:, 0], [True, True, True, False, False])
+    assert_array_equal(visible[:, 0], [False, True, True, False, False])
+    in_view, visible = visibility(cam_points, pixels, None, 1, occluders, camera, None)
+    assert_array_equal(visible[:, 0], [True, True, True, False, False])
+
+
+@pytest.mark.parametrize("scene", ["driving", "handheld"])
+@pytest.mark.parametrize("seed", [1, 2])
+def test_outlier_kinds_follow_the_documented_mix(scene, seed):
+    """Documented: half the outliers drift, a quarter jump, a quarter are
+    random walks (multinomial counts; bounds at 4 standard deviations). On 30
+    frames a drift or jump track finds its two frames each side of the switch,
+    so few fall back to random walks."""
+    n_outliers = 200
+    _X, y, info = make_tracks(
+        scene=scene,
+        n_tracks=400,
+        n_frames=30,
+        outlier_fraction=n_outliers / 400,
+        random_state=seed,
+        return_info=True,
+    )
+    kinds = info.kind[y == -1]
+    assert kinds.size == n_outliers
+    for kind, share in [("drift", 0.5), ("jump", 0.25), ("random_walk", 0.25)]:
+        sd = np.sqrt(n_outliers * share * (1 - share))
+        assert abs(np.sum(kinds == kind) - n_outliers * share) <= 4 * sd, kind

@@ -158,7 +158,7 @@ def _read_sequence(path):
         raise ValueError(
             f"Malformed Hopkins155 file {path}: 's' must hold {n_points} labels "
             f"numbered from 1, got shape {s.shape} and minimum "
-            f"{labels.min(initial=1)}."
+            f"{labels.min() if labels.size else None}."
         )
     labels = np.unique(labels, return_inverse=True)[1].astype(np.intp)
 
