@@ -58,7 +58,7 @@ from sklearn_gpca import (
     segment_motions,
 )
 from sklearn_gpca._segment import AMBIGUITY_TOLERANCE, projectable
-from sklearn_gpca._segment_selection import select_candidate
+from sklearn_gpca._segment_selection import select_segmentation
 from sklearn_gpca.datasets import load_hopkins155, make_missing, make_tracks
 from sklearn_gpca.metrics import misclassification_rate, oracle_labels
 
@@ -150,7 +150,7 @@ def run_one(setting, name, X, y, n, threads, paper):
                 for i, c in enumerate(info.candidates)
                 if init == "all" or c != "votes"
             ]
-            chosen = select_candidate(
+            chosen = select_segmentation(
                 info.coding_lengths[keep],
                 info.ambiguity[keep],
                 selection=selection,

@@ -56,7 +56,7 @@ from sklearn_gpca._refine_observed import refine_observed
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
     coding_length,
-    select_candidate,
+    select_segmentation,
 )
 from sklearn_gpca._track_neighbors import track_neighbors
 from sklearn_gpca._validation import Count
@@ -465,7 +465,7 @@ def segment_motions(
             for labels in refined
         ]
     )
-    chosen = select_candidate(
+    chosen = select_segmentation(
         lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
     )
     labels = refined[chosen]

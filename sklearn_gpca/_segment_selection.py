@@ -3,7 +3,7 @@
 - :func:`coding_length`: the lossy coding length of the segmented tracks;
 - :func:`ambiguous_fraction`: the share of tracks that another motion fits
   nearly as well as their own (how separable the segmentation's motions are);
-- :func:`select_candidate`: the rule of
+- :func:`select_segmentation`: the rule of
   :func:`sklearn_gpca.segment_motions` (``selection``) that combines them.
 """
 
@@ -132,7 +132,7 @@ def ambiguous_fraction(X0, mask, labels, noise, *, subspace_dim=4, ratio=2.0):
     return float(np.mean(ambiguous))
 
 
-def select_candidate(coding_lengths, ambiguity, *, selection, tolerance=0.02):
+def select_segmentation(coding_lengths, ambiguity, *, selection, tolerance=0.02):
     """Index of the segmentation kept among refined candidates.
 
     Parameters

@@ -11,7 +11,7 @@ from sklearn_gpca._segment import AMBIGUITY_TOLERANCE, segment_motions
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
     coding_length,
-    select_candidate,
+    select_segmentation,
 )
 from sklearn_gpca.datasets import make_motions
 
@@ -98,7 +98,7 @@ def test_ambiguous_fraction_needs_two_groups():
     ],
 )
 def test_select_candidate_rules(lengths, ambiguity, selection, expected):
-    assert select_candidate(lengths, ambiguity, selection=selection) == expected
+    assert select_segmentation(lengths, ambiguity, selection=selection) == expected
 
 
 @pytest.mark.parametrize(
@@ -111,7 +111,7 @@ def test_select_candidate_rules(lengths, ambiguity, selection, expected):
 )
 def test_select_candidate_bad_input(lengths, ambiguity, selection, match):
     with pytest.raises(ValueError, match=match):
-        select_candidate(lengths, ambiguity, selection=selection)
+        select_segmentation(lengths, ambiguity, selection=selection)
 
 
 @pytest.mark.parametrize("selection", ["coding_length", "separability"])
@@ -123,7 +123,7 @@ def test_segment_motions_selection_wiring(selection):
     assert info.candidates == ["gpca", "fragments", "votes"]
     assert info.ambiguity.shape == info.coding_lengths.shape == (3,)
     assert np.all((info.ambiguity >= 0) & (info.ambiguity <= 1))
-    expected = select_candidate(
+    expected = select_segmentation(
         info.coding_lengths,
         info.ambiguity,
         selection=selection,
