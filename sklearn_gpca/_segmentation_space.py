@@ -11,6 +11,8 @@ complete trajectories, the coordinates ``PowerFactorization(k)`` returns.
 
 import numpy as np
 
+from sklearn_gpca._rows import canonical_sign
+
 
 def fit_segmentation_space(X, n_components):
     """Leading right singular vectors of ``X`` and their singular values.
@@ -43,10 +45,7 @@ def fit_segmentation_space(X, n_components):
     array([3., 2.])
     """
     _, singular_values, components = np.linalg.svd(X, full_matrices=False)
-    components = components[:n_components]
-    largest = np.argmax(np.abs(components), axis=1)
-    signs = np.sign(components[np.arange(n_components), largest])
-    components = components * signs[:, None]
+    components = canonical_sign(components[:n_components])
     scale = singular_values[:n_components]
     return components, np.where(scale > 0, scale, 1.0)
 
