@@ -68,6 +68,13 @@ def frame_pairs(n_frames, gaps):
     return np.array(pairs, dtype=np.intp).reshape(-1, 2)
 
 
+def _with_members(seeds, neighbors, size, rng):
+    """Each seed and ``size - 1`` of its candidate neighbours, drawn without
+    replacement (uniformly, one permutation per row)."""
+    picks = np.argsort(rng.random_sample(neighbors.shape), axis=1)[:, : size - 1]
+    return np.c_[seeds, np.take_along_axis(neighbors, picks, axis=1)]
+
+
 def local_samples(positions, size, n_samples, n_neighbors, rng):
     """Random local samples: a seed and ``size - 1`` of its nearest neighbours.
 
@@ -102,8 +109,7 @@ def local_samples(positions, size, n_samples, n_neighbors, rng):
     not_seed = neighbors != seeds[:, None]
     order = np.argsort(~not_seed, axis=1, kind="stable")[:, :n_neighbors]
     neighbors = np.take_along_axis(neighbors, order, axis=1)
-    picks = np.argsort(rng.random_sample(neighbors.shape), axis=1)[:, : size - 1]
-    return np.c_[seeds, np.take_along_axis(neighbors, picks, axis=1)]
+    return _with_members(seeds, neighbors, size, rng)
 
 
 def guided_samples(preferences, size, n_samples, n_neighbors, rng, seed_weights=None):
@@ -149,8 +155,7 @@ def guided_samples(preferences, size, n_samples, n_neighbors, rng, seed_weights=
     similarity += 1e-9 * np.abs(similarity).max() * rng.random_sample(similarity.shape)
     similarity[np.arange(n_samples), seeds] = -np.inf
     neighbors = np.argpartition(-similarity, n_neighbors - 1, axis=1)[:, :n_neighbors]
-    picks = np.argsort(rng.random_sample(neighbors.shape), axis=1)[:, : size - 1]
-    return np.c_[seeds, np.take_along_axis(neighbors, picks, axis=1)]
+    return _with_members(seeds, neighbors, size, rng)
 
 
 def _two_view_residuals(model, points1, points2, samples):
