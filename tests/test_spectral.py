@@ -224,3 +224,25 @@ def test_shift_invert_falls_back_to_lanczos(monkeypatch):
     vectors = leading_eigenvectors(affinity, 3, np.random.RandomState(0))
     reference = np.linalg.eigh(normalized)[1][:, ::-1][:, :3]
     assert_allclose(vectors @ vectors.T, reference @ reference.T, atol=1e-8)
+
+
+def test_shift_invert_runs_with_one_blas_thread(monkeypatch):
+    if not [i for i in threadpool_info() if i["user_api"] == "blas"]:
+        pytest.skip("no BLAS found by threadpoolctl")
+    seen = []
+    shift_invert = _spectral._shift_invert_eigenpairs
+
+    def recording(*args):
+        seen.extend(
+            i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"
+        )
+        return shift_invert(*args)
+
+    monkeypatch.setattr(_spectral, "_shift_invert_eigenpairs", recording)
+    affinity, _ = _block_graph([30, 30], 0.05, seed=5)
+    with threadpool_limits(2, user_api="blas"):
+        leading_eigenvectors(affinity, 2, np.random.RandomState(0))
+        assert {
+            i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"
+        } == {2}
+    assert seen and set(seen) == {1}
