@@ -139,9 +139,10 @@ def normal_affinity_graph(bases, codims, neighbors, power):
 def _between_cluster_weights(affinity, labels, n_clusters):
     """``C[a, b] = sum of A_ij over i in cluster a, j in cluster b``."""
     # one pass over the stored entries: O(nnz + n_clusters^2)
-    edges = sp.coo_matrix(affinity)
-    pairs = labels[edges.row] * n_clusters + labels[edges.col]
-    weights = np.bincount(pairs, weights=edges.data, minlength=n_clusters**2)
+    graph = sp.csr_matrix(affinity) if affinity.format != "csr" else affinity
+    rows = np.repeat(np.arange(graph.shape[0]), np.diff(graph.indptr))
+    pairs = labels[rows] * n_clusters + labels[graph.indices]
+    weights = np.bincount(pairs, weights=graph.data, minlength=n_clusters**2)
     return weights.reshape(n_clusters, n_clusters)
 
 
