@@ -76,6 +76,10 @@ def run_one(bunch, missing=0.0):
         warnings.simplefilter("ignore")
         Z = PowerFactorization(random_state=0).fit_transform(X)
         result = gpca(Z, n, random_state=0)
+        # the same candidates and votes (drawn after them), and their confidence
+        confidence = gpca(
+            Z, n, vote_weighting="confidence", random_state=0
+        ).vote_confidence
     truth = np.unique(bunch.y, return_inverse=True)[1]
     from_truth, *_ = k_subspaces(
         unit_rows(Z), truth, n, neighbors=result.local_neighbors
@@ -86,7 +90,7 @@ def run_one(bunch, missing=0.0):
     kept, graph = result.labels, result.selection_graph
     cuts, residuals = result.candidate_ncuts, result.candidate_residuals
     vote_cuts = result.candidate_vote_cuts
-    weighted = cuts + result.vote_confidence * vote_cuts
+    weighted = cuts + confidence * vote_cuts
     criteria = {
         "kNN cut": cuts,
         "vote cut": vote_cuts,
@@ -101,7 +105,7 @@ def run_one(bunch, missing=0.0):
         kept=misclassification_rate(bunch.y, kept),
         cut_only=errors[_gated(residuals, cuts)],
         weighted=errors[_gated(residuals, weighted)],
-        confidence=result.vote_confidence,
+        confidence=confidence,
         residual_only=errors[int(np.argmin(residuals))],
         rho={k: _rank_correlation(v, errors) for k, v in criteria.items()},
         hit={

@@ -155,7 +155,7 @@ default="local"
         on this vote graph (weighted as ``vote_weighting`` says). 0 selects
         by the first cut alone. Time and memory ``O(n R n_clusters)`` on the
         ``n`` segmented points, plus ``O(n (R n_clusters)^2)`` for the
-        graph's confidence (``vote_confidence_``).
+        graph's confidence with ``vote_weighting="confidence"``.
     vote_weighting : {"equal", "confidence"}, default="equal"
         Weight of the vote cut in the selection. ``"equal"``: cut plus vote
         cut. ``"confidence"`` (opt-in): the vote cut times the vote graph's
@@ -440,7 +440,8 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
             n_clusters,
         )
         vote_cuts = np.array([vote_cut(votes, c, n_clusters) for c in candidates])
-        confidence = vote_confidence(votes, n_clusters)
+        if p["vote_weighting"] == "confidence":
+            confidence = vote_confidence(votes, n_clusters)
     chosen, cuts, residuals = select_candidate(
         unit,
         candidates,
@@ -449,7 +450,7 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
         subspace_dim=_subspace_dim(p, unit),
         subspace_dim_tol=p["subspace_dim_tol"],
         vote_cuts=vote_cuts,
-        vote_weight=confidence if p["vote_weighting"] == "confidence" else 1.0,
+        vote_weight=1.0 if np.isnan(confidence) else confidence,
     )
     if vote_cuts is None:
         vote_cuts = np.full(len(candidates), np.nan)
@@ -559,7 +560,8 @@ def gpca(
           len(segmented)): the refined candidates;
         - ``candidate_ncuts``, ``candidate_vote_cuts``,
           ``candidate_residuals``, ndarray of shape (n_candidates,),
-          ``vote_confidence``, float (NaN without votes), and
+          ``vote_confidence``, float (NaN without votes or with
+          ``vote_weighting="equal"``), and
           ``chosen_candidate``, int: the selection;
         - ``selection_graph``: the sparse graph of the cuts, or None;
         - ``local_neighbors``, ndarray of shape (len(segmented), n_local):
@@ -789,7 +791,8 @@ default="auto"
     vote_confidence_ : float
         Confidence of the vote graph, in [0, 1]: the mean of the eigenvalues
         ``2 .. n_clusters`` of the normalised vote matrix (1 when all runs
-        agree; see Notes); NaN with ``n_votes=0`` or a single candidate.
+        agree; see Notes), computed with ``vote_weighting="confidence"``
+        only; NaN otherwise, with ``n_votes=0`` or with a single candidate.
     candidate_residuals_ : ndarray of shape (n_candidates,)
         Sum of squared sine distances of the (unit) points to their cluster's
         fitted subspace, for each candidate, lower is better. The kept

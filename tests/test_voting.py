@@ -219,8 +219,8 @@ def test_selection_uses_both_cuts():
     weighted = GPCAClustering(3, vote_weighting="confidence", random_state=0)
     weighted.fit(unit)
     weight = weighted.vote_confidence_
-    assert 0 < weight <= 1 and np.isnan(plain.vote_confidence_)
-    assert_allclose(weight, voted.vote_confidence_)
+    assert 0 < weight <= 1
+    assert np.isnan(plain.vote_confidence_) and np.isnan(voted.vote_confidence_)
     for model, score in [
         (voted, voted.candidate_ncuts_ + voted.candidate_vote_cuts_),
         (weighted, weighted.candidate_ncuts_ + weight * weighted.candidate_vote_cuts_),
@@ -384,8 +384,8 @@ def test_occluded_sequence_kept_by_the_knn_cut(hopkins155_dir):
     for weighting in ("equal", "confidence"):
         clustering = GPCAClustering(2, vote_weighting=weighting, random_state=0)
         clustering.fit(Z)
-        assert clustering.vote_confidence_ < 0.5
         errors[weighting] = misclassification_rate(sequence.y, clustering.labels_)
+    assert clustering.vote_confidence_ < 0.5
     assert errors["confidence"] < 0.01 < 0.2 < errors["equal"]
 
 
