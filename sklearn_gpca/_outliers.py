@@ -1,4 +1,11 @@
-"""Tracks that follow no motion: a chi-square test on local windows of frames.
+"""Tracks that follow no motion, and the segmentation that sets them aside.
+
+:func:`screened_segmentation` is what ``segment_motions(outlier_threshold=...)``
+runs: the label-free local test of :mod:`sklearn_gpca._local_outliers`, then
+the segmentation of the tracks that pass it. :func:`outlier_pvalues` below
+is the earlier test, against each motion's subspace (it needs labels): it
+serves ``refine_observed(outlier_threshold=...)`` and
+``benchmarks/bench_outliers.py`` (given the true labels, as a ceiling).
 
 A track of motion ``k`` observed on the coordinates ``O`` of a window of
 frames has, under Gaussian noise of variance ``sigma_k^2`` per coordinate,
