@@ -1,0 +1,129 @@
+"""The 3-D scenes behind make_tracks, checked against their stated design.
+
+Each scene is drawn by ``make_scene`` at its native frame rate, so every pose
+is a drawn one (no resampling), and compared with the ranges its docstring and
+``make_tracks``' Notes state. Bounds are exact where the draw is uniform on a
+range; spreads are checked on many draws (several seeds and objects), with
+margins far outside what sampling noise gives.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from sklearn_gpca.datasets._track_scenes import SCENES, make_scene
+
+
+def _draw(scene, n_frames, n_objects, seed, **changes):
+    p = dict(SCENES[scene], **changes)
+    return make_scene(
+        scene,
+        n_frames,
+        n_objects,
+        p["forward_speed"],
+        p["focal_length"],
+        p["image_size"],
+        p["depth_range"],
+        p["frame_rate"],
+        np.random.default_rng(seed),
+    )
+
+
+def _angles(rotations):
+    """Angle (rad) of each rotation matrix."""
+    return np.linalg.norm(Rotation.from_matrix(rotations).as_rotvec(), axis=-1)
+
+
+@pytest.fixture(scope="module")
+def lab_worlds():
+    """40 lab scenes of 9 objects (360 boxes), 4 frames each."""
+    return [_draw("lab", 4, 9, seed, forward_speed=0.3) for seed in range(40)]
+
+
+def test_lab_boxes_are_10_to_30_cm(lab_worlds):
+    """Notes: "boxes of 10-30 cm"; each side uniform on [0.1, 0.3] m, so 1,080
+    sides reach within 1 cm of both ends."""
+    sides = np.concatenate([w.object_sizes.ravel() for w in lab_worlds])
+    assert sides.min() >= 0.1 and sides.max() <= 0.3
+    assert sides.min() < 0.11 and sides.max() > 0.29
+
+
+def test_lab_boxes_start_in_the_central_half_of_the_view(lab_worlds):
+    """An object starts at a depth uniform in ``depth_range`` (the Notes: "the
+    objects stand in this range too") and at a point projecting uniformly on
+    the central half of the image in x and in y, at least 0.4 m from the
+    other objects (room for 9 boxes of at most 0.52 m across)."""
+    p = SCENES["lab"]
+    half = np.asarray(p["image_size"]) / 2 / p["focal_length"]
+    starts = np.concatenate([w.object_centres[:, 0] for w in lab_worlds])
+    depth = starts[:, 2]
+    low, high = p["depth_range"]
+    assert depth.min() >= low and depth.max() <= high
+    assert depth.min() < low + 0.05 and depth.max() > high - 0.05
+    u = starts[:, :2] / depth[:, None] / half  # in units of the half image
+    assert np.all(np.abs(u) <= 0.5)
+    assert np.all(np.abs(u).max(axis=0) > 0.48)
+    # uniform on [-0.5, 0.5] in both axes: every quarter of the range is used
+    for axis in range(2):
+        counts = np.histogram(u[:, axis], bins=4, range=(-0.5, 0.5))[0]
+        assert counts.min() > 0.6 * len(u) / 4
+    for w in lab_worlds:
+        gaps = np.linalg.norm(
+            w.object_centres[:, None, 0] - w.object_centres[None, :, 0], axis=-1
+        )
+        assert gaps[np.triu_indices(len(gaps), 1)].min() >= 0.4
+
+
+def test_lab_objects_slide_and_turn_slowly(lab_worlds):
+    """Each object slides 3-15 mm a frame along a fixed direction (flattened
+    in depth: its z share scaled by 0.3) and spins 0.01-0.04 rad a frame
+    about a fixed axis."""
+    steps = np.concatenate([np.diff(w.object_centres, axis=1) for w in lab_worlds])
+    speed = np.linalg.norm(steps, axis=-1)
+    assert np.all((speed >= 0.003 - 1e-12) & (speed <= 0.015 + 1e-12))
+    assert speed.min() < 0.004 and speed.max() > 0.014
+    np.testing.assert_allclose(speed, speed[:, :1] * np.ones_like(speed))
+    # depth share of an isotropic direction averages 0.5, flattened ~0.2
+    depth_share = np.abs(steps[:, 0, 2]) / speed[:, 0]
+    assert 0.1 < depth_share.mean() < 0.3
+    assert np.mean(steps[:, 0, 2] > 0) == pytest.approx(0.5, abs=0.1)
+    Ro = np.concatenate([w.object_rotations for w in lab_worlds])
+    relative = np.einsum("kfij,kflj->kfil", Ro[:, 1:], Ro[:, :-1])
+    spin = _angles(relative)
+    assert np.all((spin >= 0.01 - 1e-9) & (spin <= 0.04 + 1e-9))
+    assert spin.min() < 0.012 and spin.max() > 0.038
+    np.testing.assert_allclose(spin, spin[:, :1] * np.ones_like(spin), rtol=1e-6)
+    # the starting orientations are random rotations: not the identity
+    assert np.all(_angles(Ro[:, 0]) > 1e-3)
+
+
+def test_lab_camera_moves_slowly(lab_worlds):
+    """The camera starts at the world origin, slides 2-10 mm a frame in a
+    fixed direction of its x-y plane, and moves forward ``forward_speed /
+    30`` m a frame; it yaws and pitches at constant rates of at most 0.003 rad
+    a frame (either sign) and rolls with a smooth noise of 0.002 rad."""
+    rng_speed = 0.3 / SCENES["lab"]["frame_rate"]
+    lateral, rates, rolls = [], [], []
+    for w in lab_worlds:
+        C = w.camera_centres
+        np.testing.assert_allclose(C[0], 0.0, atol=1e-15)
+        step = np.diff(C, axis=0)
+        np.testing.assert_allclose(step, step[:1] * np.ones_like(step), atol=1e-12)
+        np.testing.assert_allclose(step[:, 2], rng_speed, rtol=1e-9)
+        lateral.append(np.linalg.norm(step[0, :2]))
+        angles = Rotation.from_matrix(w.camera_rotations).as_euler("YXZ")
+        np.testing.assert_allclose(angles[0, :2], 0.0, atol=1e-15)
+        rate = np.diff(angles[:, :2], axis=0)
+        np.testing.assert_allclose(rate, rate[:1] * np.ones_like(rate), atol=1e-12)
+        rates.append(rate[0])
+        rolls.append(angles[:, 2])
+    lateral, rates, rolls = np.array(lateral), np.array(rates), np.array(rolls)
+    assert np.all((lateral >= 0.002 - 1e-12) & (lateral <= 0.01 + 1e-12))
+    assert lateral.min() < 0.003 and lateral.max() > 0.009
+    assert np.all(np.abs(rates) <= 0.003)
+    assert np.abs(rates).max(axis=0).min() > 0.0025
+    assert np.all((rates > 0).mean(axis=0) > 0.25)
+    assert np.all((rates < 0).mean(axis=0) > 0.25)
+    assert 0.001 < rolls.std() < 0.003
