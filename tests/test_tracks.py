@@ -297,6 +297,9 @@ def test_info_describes_the_draw():
     assert np.all(info.source_motions[switching] >= 0)
     assert set(info.end_reason) <= {"lifetime", "left_view", "occluded", "sequence_end"}
     assert info.params["n_frames"] == F
+    # frame indices and counts are integers (they index the frames)
+    for name in ("birth", "end", "lifetime", "switch_frame", "source_motions"):
+        assert info[name].dtype == np.int64, name
 
 
 @pytest.mark.parametrize(

@@ -127,3 +127,44 @@ def test_lab_camera_moves_slowly(lab_worlds):
     assert np.all((rates > 0).mean(axis=0) > 0.25)
     assert np.all((rates < 0).mean(axis=0) > 0.25)
     assert 0.001 < rolls.std() < 0.003
+
+
+def _handheld_steps(world):
+    """Camera yaw per frame and each frame's step in the camera's heading frame
+    (x right, y down, z forward), the velocity the hand-held camera drew."""
+    yaw = Rotation.from_matrix(world.camera_rotations).as_euler("YXZ")[:, 0]
+    step = np.diff(world.camera_centres, axis=0)
+    heading = Rotation.from_euler("Y", yaw[:-1, None]).as_matrix()
+    return yaw, np.einsum("fji,fj->fi", heading, step)
+
+
+def test_handheld_camera_walks_forward_at_the_given_speed():
+    """The hand-held camera moves ``forward_speed / 30`` m a frame along its
+    heading, with a smooth (AR(1), memory 0.9) relative noise of 20 %, a
+    constant sideways drift of at most 2 cm a frame with a 3 mm noise, and a
+    2 mm vertical noise. Without a subject it pans at a constant rate of at
+    most 0.005 rad a frame, with a 0.002 rad shake."""
+    forward = SCENES["handheld"]["forward_speed"] / SCENES["handheld"]["frame_rate"]
+    relative, sideways, vertical, pans, shakes = [], [], [], [], []
+    for seed in range(30):
+        world = _draw("handheld", 200, 0, seed)
+        np.testing.assert_allclose(world.camera_centres[0], 0.0, atol=1e-15)
+        yaw, velocity = _handheld_steps(world)
+        assert yaw[0] == pytest.approx(0.0, abs=1e-15)
+        relative.append(velocity[:, 2] / forward - 1)
+        sideways.append(velocity[:, 0].mean())
+        vertical.append(velocity[:, 1])
+        turn = np.diff(yaw)
+        pans.append(turn.mean())
+        shakes.append(turn.std())
+    relative = np.concatenate(relative)
+    assert abs(relative.mean()) < 0.05
+    assert 0.15 < relative.std() < 0.25
+    sideways = np.array(sideways)
+    assert np.all(np.abs(sideways) < 0.02 + 0.003)
+    assert sideways.max() > 0.01 and sideways.min() < -0.01
+    assert 0.0015 < np.concatenate(vertical).std() < 0.0025
+    pans = np.array(pans)
+    assert np.all(np.abs(pans) < 0.005 + 0.0005)
+    assert pans.max() > 0.003 and pans.min() < -0.003
+    assert 0.0017 < np.mean(shakes) < 0.0023
