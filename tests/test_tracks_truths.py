@@ -9,11 +9,13 @@ margins far outside what sampling noise gives.
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from sklearn_gpca.datasets._track_scenes import SCENES, make_scene
+from sklearn_gpca.datasets._track_scenes import SCENES, _in_view_at_start, make_scene
 
 
 def _draw(scene, n_frames, n_objects, seed, **changes):
@@ -168,3 +170,97 @@ def test_handheld_camera_walks_forward_at_the_given_speed():
     assert np.all(np.abs(pans) < 0.005 + 0.0005)
     assert pans.max() > 0.003 and pans.min() < -0.003
     assert 0.0017 < np.mean(shakes) < 0.0023
+
+
+def _yaw(rotations):
+    return Rotation.from_matrix(rotations.reshape(-1, 3, 3)).as_euler("YXZ")[:, 0]
+
+
+@pytest.fixture(scope="module")
+def driving_worlds():
+    """45 driving scenes of 6 objects (270 vehicles), 40 frames each."""
+    return [_draw("driving", 40, 6, seed) for seed in range(45)]
+
+
+def test_driving_traffic_mix(driving_worlds):
+    """15 % of the vehicles are cyclists (a 0.6 x 1.7 x 1.8 m box, jittered by
+    up to 8 %), the others cars (1.8 x 1.5 x 4.2 m); 30 % are oncoming
+    (heading at the camera). Binomial counts on 270 vehicles, bounds at about
+    4 standard deviations. The street's facades stand 6-15 m to either side."""
+    sizes = np.concatenate([w.object_sizes for w in driving_worlds])
+    cyclist = sizes[:, 2] < 3.0
+    assert np.all(np.abs(sizes[cyclist] / [0.6, 1.7, 1.8] - 1) <= 0.08 + 1e-12)
+    assert np.all(np.abs(sizes[~cyclist] / [1.8, 1.5, 4.2] - 1) <= 0.08 + 1e-12)
+    assert 0.15 - 0.09 < cyclist.mean() < 0.15 + 0.09
+    yaw = np.concatenate([_yaw(w.object_rotations[:, 0]) for w in driving_worlds])
+    oncoming = np.cos(yaw) < 0
+    assert 0.3 - 0.11 < oncoming.mean() < 0.3 + 0.11
+    walls = np.array([w.walls for w in driving_worlds])
+    assert np.all((walls >= 6) & (walls <= 15))
+    assert walls.min() < 7 and walls.max() > 14
+
+
+def test_driving_cars_ahead_drift_slowly_relative_to_the_ego_car(driving_worlds):
+    """A car not oncoming keeps its place relative to the ego car, in the
+    camera's heading frame: it starts in a lane (+-0.4 m) and drifts at most
+    3 cm a frame sideways and 25 cm a frame along the road (either way), with
+    smooth noise of 0.1 m and 0.3 m (bounds at 5 standard deviations); it
+    never comes nearer than 4 m."""
+    slopes = []
+    for w in driving_worlds:
+        C, Rc = w.camera_centres, w.camera_rotations
+        heading = Rotation.from_euler("Y", _yaw(Rc)[:, None]).as_matrix()
+        yaw0 = _yaw(w.object_rotations[:, 0])
+        frames = np.arange(C.shape[0])
+        for k in np.flatnonzero(np.cos(yaw0) > 0):
+            offset = w.object_centres[k] - C
+            rel = np.einsum("fji,fj->fi", heading, offset)
+            assert np.all(rel[:, 2] >= 4.0 - 1e-9)
+            lane = np.array([-3.5, 0.0, 3.5])[
+                np.argmin(np.abs(rel[0, 0] - [-3.5, 0, 3.5]))
+            ]
+            drift = np.abs(rel[:, 0] - lane)
+            assert np.all(drift <= 0.4 + 0.03 * frames + 0.5)
+            slopes.append(np.polyfit(frames, rel[:, [0, 2]], 1)[0])
+    slopes = np.array(slopes)
+    # slope of a line fitted through the smooth noise: within ~0.03 m/frame
+    assert np.all(np.abs(slopes[:, 0]) < 0.03 + 0.02)
+    assert np.all(slopes[:, 1] < 0.25 + 0.08)
+    assert np.mean(np.abs(slopes[:, 0]) > 0.015) > 0.2
+    assert np.mean(slopes[:, 0] > 0) == pytest.approx(0.5, abs=0.15)
+    far = slopes[:, 1] > -0.2  # cars falling behind are stopped at 4 m
+    assert np.mean(slopes[far, 1] > 0) == pytest.approx(0.55, abs=0.2)
+    assert slopes[:, 1].max() > 0.15
+
+
+def test_driving_camera_turns_at_most_0_03_rad_a_frame():
+    """The car's yaw rate is a random walk (steps of 5e-4 rad a frame, from an
+    initial rate of at most 0.004) clipped to +-0.03 rad a frame: on 3,000
+    frames the walk reaches the clip."""
+    rates = []
+    for seed in range(4):
+        world = _draw("driving", 3000, 0, seed)
+        rates.append(np.diff(np.unwrap(_yaw(world.camera_rotations))))
+    rates = np.concatenate(rates)
+    assert np.all(np.abs(rates) <= 0.03 + 1e-9)
+    assert np.mean(np.abs(rates) > 0.03 - 1e-9) > 0.01
+
+
+@pytest.mark.parametrize("axis", [0, 1])
+def test_in_view_at_start_keeps_a_tenth_of_the_image_as_margin(axis):
+    """A camera-frame point is in view at the start when it is in front of the
+    camera and projects inside the central 90 % of the image in x and y; a
+    point on the camera's plane is not, without a division warning."""
+    size, f, z = (1000.0, 500.0), 800.0, 10.0
+    inside, outside = np.zeros(3), np.zeros(3)
+    inside[2] = outside[2] = z
+    inside[axis] = 0.89 * size[axis] / 2 * z / f
+    outside[axis] = 0.91 * size[axis] / 2 * z / f
+    assert _in_view_at_start(inside, f, size)
+    assert _in_view_at_start(-inside * [1, 1, -1], f, size)
+    assert not _in_view_at_start(outside, f, size)
+    assert not _in_view_at_start(-outside * [1, 1, -1], f, size)
+    assert not _in_view_at_start(inside * [1, 1, -1], f, size)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert not _in_view_at_start(np.zeros(3), f, size)
