@@ -14,7 +14,10 @@ import warnings
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
+from sklearn.utils import Bunch
 
+from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.datasets._track_outliers import _random_walks
 from sklearn_gpca.datasets._track_scenes import SCENES, _in_view_at_start, make_scene
 
 
@@ -264,3 +267,117 @@ def test_in_view_at_start_keeps_a_tenth_of_the_image_as_margin(axis):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert not _in_view_at_start(np.zeros(3), f, size)
+
+
+@pytest.fixture(scope="module")
+def handheld_subjects():
+    """Subjects of 60 hand-held scenes of 3 objects, 40 frames each."""
+    return [_draw("handheld", 40, 3, seed) for seed in range(60)]
+
+
+def test_handheld_subjects_walk_at_their_kind_s_speed(handheld_subjects):
+    """A subject moves at a speed uniform on its kind's range (metres a frame:
+    person 0.03-0.06, animal 0.03-0.15, cyclist 0.05-0.15, car 0.05-0.2),
+    times a smooth noise of 10 %, in a heading uniform on the circle."""
+    ranges = {0.3: (0.03, 0.06), 1.0: (0.03, 0.15), 1.8: (0.05, 0.15), 4.2: (0.05, 0.2)}
+    ratios, headings = [], []
+    for w in handheld_subjects:
+        speed = np.linalg.norm(np.diff(w.object_centres, axis=1), axis=-1)
+        for k, length in enumerate(w.object_sizes[:, 2]):
+            base = min(ranges, key=lambda b: abs(b - length))
+            low, high = ranges[base]
+            ratios.append((np.median(speed[k]) - low) / (high - low))
+        headings.append(_yaw(w.object_rotations[:, 0]))
+    ratios = np.array(ratios)  # where the speed falls in its range
+    assert np.all((ratios > -0.5) & (ratios < 1.5))
+    assert ratios.min() < 0.1 and ratios.max() > 0.9
+    assert np.mean(ratios < 0.5) == pytest.approx(0.5, abs=0.15)
+    quarter = np.floor(np.mod(np.concatenate(headings), 2 * np.pi) / (np.pi / 2))
+    assert np.all(np.bincount(quarter.astype(int), minlength=4) > 0.15 * len(ratios))
+    assert np.mean(quarter < 2) == pytest.approx(0.5, abs=0.1)
+
+
+def test_handheld_camera_pans_to_keep_the_subject_in_the_middle_third(
+    handheld_subjects,
+):
+    """The operator pans by a tenth of the subject's angle beyond the middle
+    third of the view (the dead zone, a third of the half field of view),
+    plus a shake of 0.002 rad: what the yaw does beyond that is the shake."""
+    p = SCENES["handheld"]
+    dead_zone = p["image_size"][0] / 2 / p["focal_length"] / 3
+    shakes, steering = [], []
+    for w in handheld_subjects:
+        C, To = w.camera_centres, w.object_centres[0]
+        yaw = Rotation.from_matrix(w.camera_rotations).as_euler("YXZ")[:, 0]
+        offset = To[:-1] - C[:-1]
+        bearing = np.arctan2(offset[:, 0], offset[:, 2])
+        off_centre = np.angle(np.exp(1j * (bearing - yaw[:-1])))
+        excess = np.sign(off_centre) * np.maximum(np.abs(off_centre) - dead_zone, 0)
+        shakes.append(np.diff(yaw) - 0.1 * excess)
+        steering.append(excess != 0)
+    shakes, steering = np.concatenate(shakes), np.concatenate(steering)
+    assert steering.mean() > 0.05  # the controller is exercised
+    assert abs(shakes.mean()) < 3e-4
+    assert 0.0017 < shakes.std() < 0.0023
+
+
+def test_switching_outliers_leave_motions_in_their_shares():
+    """A drift or jump outlier starts on a motion drawn in proportion to the
+    motions' shares of inlier tracks, and switches to another motion, drawn
+    in proportion to the shares of the others (module docstring). Complete
+    tracks on 10 frames: the switch falls uniformly after frame 1 .. F - 4,
+    leaving two frames each side. Binomial bounds at about 5 standard
+    deviations."""
+    n_frames, sources, switches = 10, [], []
+    for seed in range(4):
+        _X, y, info = make_tracks(
+            scene="lab",
+            n_motions=3,
+            n_tracks=400,
+            n_frames=n_frames,
+            background_fraction=0.6,
+            outlier_fraction=0.5,
+            random_state=seed,
+            return_info=True,
+        )
+        switching = np.isin(info.kind, ["drift", "jump"])
+        shares = np.bincount(y[y >= 0], minlength=3) / np.sum(y >= 0)
+        first, second = info.source_motions[switching].T
+        assert np.all(first != second)
+        sources.append((first, second, shares))
+        switches.append(info.switch_frame[switching])
+    first = np.concatenate([s[0] for s in sources])
+    second = np.concatenate([s[1] for s in sources])
+    shares = np.mean([s[2] for s in sources], axis=0)
+    n = first.size
+    for k in range(3):
+        assert abs(np.mean(first == k) - shares[k]) < 5 * np.sqrt(0.25 / n)
+    # from the background (share 0.6), the two objects equally often
+    from_background = second[first == 0]
+    expected = shares[1] / (shares[1] + shares[2])
+    assert abs(np.mean(from_background == 1) - expected) < 5 * np.sqrt(
+        0.25 / from_background.size
+    )
+    switches = np.concatenate(switches)
+    counts = np.bincount(switches, minlength=n_frames)
+    assert counts[0] == 0 and np.all(counts[n_frames - 3 :] == 0)
+    assert np.all(counts[1 : n_frames - 3] > 0.5 * n / (n_frames - 4))
+
+
+def test_random_walks_move_at_the_typical_step_in_every_frame():
+    """A random walk's velocity is AR(1) (memory 0.8, shocks 0.6 of the step),
+    started from its stationary law (standard deviation the step): every
+    displacement has the step as standard deviation, and consecutive ones a
+    correlation of 0.8. Far from the borders, no reflection."""
+    step, n, n_frames = 2.0, 4000, 6
+    camera = Bunch(width=1e7, height=1e7)
+    births = np.zeros(n, dtype=np.int64)
+    pixels, in_view, visible = _random_walks(
+        births, step, camera, n_frames, np.random.default_rng(0)
+    )
+    assert in_view.all() and visible.all()
+    moves = np.diff(pixels, axis=1)
+    sd = moves.std(axis=(0, 2))
+    np.testing.assert_allclose(sd, step, rtol=0.06)
+    lag = np.mean(moves[:, 1:] * moves[:, :-1]) / np.mean(moves**2)
+    assert lag == pytest.approx(0.8, abs=0.03)
