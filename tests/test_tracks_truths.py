@@ -17,8 +17,14 @@ from scipy.spatial.transform import Rotation
 from sklearn.utils import Bunch
 
 from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.datasets._track_geometry import _box_corners
 from sklearn_gpca.datasets._track_outliers import _random_walks
-from sklearn_gpca.datasets._track_scenes import SCENES, _in_view_at_start, make_scene
+from sklearn_gpca.datasets._track_scenes import (
+    SCENES,
+    _in_view_at_start,
+    _smooth_noise,
+    make_scene,
+)
 
 
 def _draw(scene, n_frames, n_objects, seed, **changes):
@@ -381,3 +387,63 @@ def test_random_walks_move_at_the_typical_step_in_every_frame():
     np.testing.assert_allclose(sd, step, rtol=0.06)
     lag = np.mean(moves[:, 1:] * moves[:, :-1]) / np.mean(moves**2)
     assert lag == pytest.approx(0.8, abs=0.03)
+
+
+def test_smooth_noise_is_stationary_with_the_given_scale():
+    """AR(1) noise with memory ``m`` and shocks of ``scale sqrt(1 - m^2)``,
+    started from its stationary law: every frame has standard deviation
+    ``scale``, consecutive frames a correlation ``m``."""
+    rng = np.random.default_rng(0)
+    values = np.array([_smooth_noise(rng, 6, 0.5) for _ in range(4000)])
+    np.testing.assert_allclose(values.std(axis=0), 0.5, rtol=0.06)
+    lag = np.mean(values[:, 1:] * values[:, :-1]) / np.mean(values**2)
+    assert lag == pytest.approx(0.9, abs=0.02)
+
+
+def test_box_corners_are_the_eight_corners_of_the_centred_box():
+    corners = _box_corners((2.0, 4.0, 6.0))
+    expected = [[x, y, z] for x in (-1, 1) for y in (-2, 2) for z in (-3, 3)]
+    assert sorted(map(tuple, corners)) == sorted(map(tuple, expected))
+
+
+@pytest.mark.parametrize("scene", ["lab", "handheld"])
+def test_object_points_lie_on_their_box_and_observed_points_in_the_image(scene):
+    """Object tracks are points of the faces of their box (Notes: "uniformly
+    on the visible faces"): inside the box, on a face. Every observed point,
+    outliers' too, is inside the image (a track is lost when it leaves it)."""
+    X, y, info = make_tracks(
+        scene=scene,
+        n_tracks=300,
+        n_frames=15,
+        outlier_fraction=0.2,
+        noise=0.0,
+        units="pixels",
+        random_state=1,
+        return_info=True,
+    )
+    for k, size in enumerate(info.object_sizes, start=1):
+        reach = np.abs(info.points[y == k]) / (size / 2)
+        assert np.all(reach <= 1 + 1e-9)
+        np.testing.assert_allclose(reach.max(axis=1), 1.0, atol=1e-9)
+    width, height = info.image_size
+    x, v = X[:, 0::2], X[:, 1::2]
+    seen = ~np.isnan(x)
+    assert np.all((x[seen] >= 0) & (x[seen] <= width))
+    assert np.all((v[seen] >= 0) & (v[seen] <= height))
+
+
+def test_image_size_and_depths_take_any_real_numbers():
+    from fractions import Fraction
+
+    X, _y, info = make_tracks(
+        scene="lab",
+        n_tracks=60,
+        n_frames=5,
+        image_size=(Fraction(640), Fraction(480)),
+        depth_range=(Fraction(2), Fraction(7, 2)),
+        random_state=0,
+        return_info=True,
+    )
+    assert info.image_size == (640.0, 480.0)
+    assert info.params["depth_range"] == (2.0, 3.5)
+    assert np.isfinite(X).all()
