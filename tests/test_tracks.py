@@ -252,12 +252,12 @@ def test_lifetimes_are_geometric_with_the_stated_mean():
     assert abs(info.lifetime.mean() - mean) < 5 * sd / np.sqrt(y.size)
 
 
-def test_geometric_lifetimes_match_the_distribution():
+@pytest.mark.parametrize("mean", [1.5, 8.0])
+def test_geometric_lifetimes_match_the_distribution(mean):
     rng = np.random.RandomState(0)
-    mean = 8.0
     lifetimes = geometric_lifetimes(1.0 - rng.random_sample(20000), mean)
     assert lifetimes.min() == 1
-    for k in (1, 2, 5, 10, 20):
+    for k in (1, 2, 3, 5, 10, 20):
         expected = (1 - 1 / mean) ** (k - 1)
         freq = np.mean(lifetimes >= k)
         assert abs(freq - expected) <= 5 * np.sqrt(expected * (1 - expected) / 20000)

@@ -200,6 +200,8 @@ def test_driving_traffic_mix(driving_worlds):
     cyclist = sizes[:, 2] < 3.0
     assert np.all(np.abs(sizes[cyclist] / [0.6, 1.7, 1.8] - 1) <= 0.08 + 1e-12)
     assert np.all(np.abs(sizes[~cyclist] / [1.8, 1.5, 4.2] - 1) <= 0.08 + 1e-12)
+    jitter = sizes[~cyclist] / [1.8, 1.5, 4.2]  # uniform on [0.92, 1.08]
+    assert jitter.min() < 0.93 and jitter.max() > 1.07
     assert 0.15 - 0.09 < cyclist.mean() < 0.15 + 0.09
     yaw = np.concatenate([_yaw(w.object_rotations[:, 0]) for w in driving_worlds])
     oncoming = np.cos(yaw) < 0
