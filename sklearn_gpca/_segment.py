@@ -25,7 +25,8 @@ sequence -- and returns one motion label per track. Beyond the paper
    shortest coding length among the candidates that leave the fewest tracks
    ambiguous between two motions (or, ``selection="coding_length"``, the
    shortest coding length);
-4. optionally, tracks that fit no motion labelled ``-1``.
+4. optionally, tracks that disagree with their neighbours labelled ``-1``,
+   and set aside before step 1.
 
 :class:`sklearn_gpca.MotionSegmentation` is the estimator around it.
 """
@@ -52,6 +53,7 @@ from sklearn_gpca._observed_subspaces import (
     observed_entries,
     subspace_residuals,
 )
+from sklearn_gpca._outliers import screened_segmentation
 from sklearn_gpca._refine_observed import refine_observed
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
@@ -312,21 +314,21 @@ def segment_motions(
         Maximum rounds of the refinement.
     outlier_threshold : float in (0, 1) or None, default=None
         Label ``-1`` (the noise label of DBSCAN and HDBSCAN) the tracks that
-        fit no motion: the probability of flagging a track whose residuals
-        are Gaussian noise at its motion's level (a false-alarm rate per
-        track; e.g. ``1e-3``). The test
-        (:func:`sklearn_gpca._outliers.outlier_pvalues`) compares each
-        track's residual to every motion on windows of 16 frames with the
-        chi-square law of its degrees of freedom, the noise of each motion
-        estimated robustly from its tracks, so a random walk fails
-        everywhere and a tracker's drift or jump from one motion to another
-        fails on the windows around its switch. The flagged tracks are left
-        out of the subspace fits and the refinement is run again. None
-        labels every track with a motion. Tracks seen in 2 frames or fewer
-        cannot be tested and keep a motion label; a drift between two
-        motions that move alike is not seen; under strong perspective (a
-        forward-moving camera) the nearest background points misfit more
-        than the noise and some are flagged
+        disagree with their neighbours: the probability of flagging a track
+        whose residuals are Gaussian noise (a false-alarm rate per track;
+        e.g. ``1e-3``). The test
+        (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`) needs
+        no segmentation: on windows of 10 frames, each track is compared
+        with the subspace of the tracks that move most like it and observe
+        its frames, with an F test against their own spread. The flagged
+        tracks are set aside *before* the candidate segmentations, so that
+        they cannot break them; the others are segmented as without the
+        option. None labels every track with a motion. Tracks seen in 2
+        frames or fewer (within every window) cannot be tested and keep a
+        motion label; a drift between two motions that move alike, or seen
+        in 2-3 frames after its switch, is often missed; under strong
+        perspective (a forward-moving camera) the nearest, fastest
+        background tracks misfit their neighbours and some are flagged
         (``benchmarks/results/outliers.md`` gives precision and recall).
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
@@ -345,7 +347,10 @@ def segment_motions(
         refinement), ``coding_lengths`` (bits), ``ambiguity`` (share of
         ambiguous tracks; NaN for a candidate of one motion), ``chosen``
         (index), ``noise`` (variance per coordinate, in the units of the
-        scaled tracks) and ``scale`` (the RMS used).
+        scaled tracks) and ``scale`` (the RMS used); with
+        ``outlier_threshold``, these describe the tracks that pass the test,
+        and ``outlier_pvalues`` and ``outliers`` (mask of the ``-1``) are
+        added.
 
     Examples
     --------
@@ -360,6 +365,23 @@ def segment_motions(
     True
     """
     X = _check_tracks(X, n_motions)
+    if outlier_threshold is not None:
+        # outliers set aside before the candidates (sklearn_gpca._outliers)
+        return screened_segmentation(
+            segment_motions,
+            X,
+            n_motions,
+            outlier_threshold=outlier_threshold,
+            init=init,
+            return_info=return_info,
+            selection=selection,
+            subspace_dim=subspace_dim,
+            smoothing=smoothing,
+            n_neighbors=n_neighbors,
+            per_cluster=per_cluster,
+            max_iter=max_iter,
+            random_state=random_state,
+        )
     random_state = check_random_state(random_state)
     n_samples = X.shape[0]
     X0, mask = observed_entries(X)
