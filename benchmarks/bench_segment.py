@@ -137,9 +137,13 @@ def run_one(setting, name, X, y, n, threads, paper):
         row["missing"] = float(np.isnan(X).mean())
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            (_, info), row["segment_s"] = _timed(
+            (labels, info), row["segment_s"] = _timed(
                 lambda: segment_motions(
-                    X, n, init="all", random_state=0, return_info=True
+                    X,
+                    n,
+                    init="all",
+                    random_state=0,
+                    return_info=True,
                 )
             )
         errors = [misclassification_rate(y, r) for r in info.refined]
@@ -159,6 +163,20 @@ def run_one(setting, name, X, y, n, threads, paper):
             row[key] = errors[keep[chosen]]
         # the default: init="all", selection="separability"
         row["segment"] = row["all+separability"]
+        # merge/split moves from the default's segmentation (its refinement
+        # from itself is a fixed point): the moves' own time
+        (moved, moves_info), row["moves_s"] = _timed(
+            lambda: segment_motions(
+                X,
+                n,
+                init=labels,
+                merge_split=True,
+                random_state=0,
+                return_info=True,
+            )
+        )
+        row["moves"] = misclassification_rate(y, moved)
+        row["n_moves"] = moves_info.n_moves
         for name, info_key in CRITERIA.items():
             values = np.asarray(info[info_key], dtype=float)
             row[f"hit {name}"] = float(
@@ -243,6 +261,7 @@ def _cell(values, fmt="{:.2f}", scale=100.0):
 def _methods(rows):
     names = sorted({c for r in rows for c in r["candidates"]})
     methods = [("segment_motions (default: init='all', separability)", "segment", None)]
+    methods += [("segment_motions, merge_split=True", "moves", "moves_s")]
     methods += [
         (f"segment_motions, init='{init}', selection='{selection}'", key, None)
         for key, (init, selection) in RULES.items()
