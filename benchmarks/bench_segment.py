@@ -422,7 +422,10 @@ def main():
         "`GPCAClustering(n)`; *paper pipeline*: `paper_pipeline(n)`; on tracks "
         "with missing entries both run on the tracks observed in at least 3 "
         "frames and are scored on those (the others are a tracker's shortest "
-        "tracks, the hardest to label). n/a: the pipeline refused the data.",
+        "tracks, the hardest to label). n/a: the pipeline refused the data. "
+        "*merge_split=True*: the moves started from the default's segmentation "
+        "(`segment_motions(X, n, init=labels, merge_split=True)`); its time is "
+        "that call's alone, to add to the default's.",
         "",
     ]
     if tracks:
