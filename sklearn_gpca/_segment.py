@@ -364,7 +364,8 @@ def segment_motions(
         segment_tracks.md``, 24 ``make_tracks`` draws): 13.2 % against the
         default's 13.0 % (handheld 3 motions 30.9 -> 21.3 %, driving 3
         motions 11.1 -> 17.0 %); every 5th Hopkins155 sequence
-        (``segment_hopkins_subset5.md``): 3.38 % against 1.17 %. A planted
+        (``segment_hopkins_subset5.md``): 3.38 % against 1.17 %; with 30 %
+        occlusion (``segment_occlusion_subset5.md``) 1.85 % against 1.72 %. A planted
         merge-and-cut start is repaired (``tests/test_segment_moves.py``).
     subspace_dim : int, default=4
         Dimension of the motion subspaces of the refinement (4 for a rigid
