@@ -8,8 +8,9 @@ the normalised cuts on the polynomial-normal kNN graph and on the vote graph of
 ``n_votes=100`` randomized-voting runs, among those that fit) with
 
 - the rule without votes (``n_votes=0``: the kNN cut alone, among those that
-  fit) and the residual alone, on the same candidates (the votes are drawn
-  after the candidates),
+  fit), the opt-in ``vote_weighting="confidence"`` (the vote cut times the
+  vote graph's confidence) and the residual alone, on the same candidates
+  (the votes are drawn after the candidates),
 
 - the best candidate in hindsight (oracle over the same six),
 - the candidate with the shortest lossy coding length (distortion 0.03), a
@@ -25,11 +26,15 @@ and how far the fit gate was from rejecting the cut's choice. For each
 criterion (kNN cut, vote cut, their sum, residual, coding length) it reports
 the per-sequence Spearman correlation with the error over the candidates and
 how often the criterion's minimum is a best candidate in hindsight. Prints the
-tables and writes ``benchmarks/results/selection.md``.
+tables and writes ``benchmarks/results/selection.md``. With ``--missing
+0.3``: the 120 two-motion sequences with the occlusion masks of
+``bench_occlusion.py`` (``make_missing(X, 0.3, random_state=0)``).
 
 Usage::
 
     python benchmarks/bench_selection.py --data ../shared/data/hopkins155 --jobs 2
+    python benchmarks/bench_selection.py --data ../shared/data/hopkins155 --jobs 2 \
+        --missing 0.3 --output benchmarks/results/selection_occlusion.md
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -45,7 +50,7 @@ from scipy.stats import spearmanr
 from threadpoolctl import threadpool_limits
 
 from sklearn_gpca import PowerFactorization, coding_length_cost, gpca, k_subspaces
-from sklearn_gpca.datasets import load_hopkins155
+from sklearn_gpca.datasets import load_hopkins155, make_missing
 from sklearn_gpca.metrics import misclassification_rate
 from sklearn_gpca.stages import normalized_cut, unit_rows
 
@@ -63,13 +68,18 @@ def _gated(residuals, score, gate=3.0):
     return int(np.argmin(np.where(admissible, score, np.inf)))
 
 
-def run_one(bunch):
+def run_one(bunch, missing=0.0):
     threadpool_limits(1)
     n = bunch.n_motions
+    X = make_missing(bunch.X, missing, random_state=0) if missing else bunch.X
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        Z = PowerFactorization(random_state=0).fit_transform(bunch.X)
+        Z = PowerFactorization(random_state=0).fit_transform(X)
         result = gpca(Z, n, random_state=0)
+        # the same candidates and votes (drawn after them), and their confidence
+        confidence = gpca(
+            Z, n, vote_weighting="confidence", random_state=0
+        ).vote_confidence
     truth = np.unique(bunch.y, return_inverse=True)[1]
     from_truth, *_ = k_subspaces(
         unit_rows(Z), truth, n, neighbors=result.local_neighbors
@@ -80,10 +90,12 @@ def run_one(bunch):
     kept, graph = result.labels, result.selection_graph
     cuts, residuals = result.candidate_ncuts, result.candidate_residuals
     vote_cuts = result.candidate_vote_cuts
+    weighted = cuts + confidence * vote_cuts
     criteria = {
         "kNN cut": cuts,
         "vote cut": vote_cuts,
         "kNN cut + vote cut": cuts + vote_cuts,
+        "kNN cut + confidence x vote cut": weighted,
         "residual": residuals,
         "coding length": np.array(lengths),
     }
@@ -92,6 +104,8 @@ def run_one(bunch):
         name=bunch.name,
         kept=misclassification_rate(bunch.y, kept),
         cut_only=errors[_gated(residuals, cuts)],
+        weighted=errors[_gated(residuals, weighted)],
+        confidence=confidence,
         residual_only=errors[int(np.argmin(residuals))],
         rho={k: _rank_correlation(v, errors) for k, v in criteria.items()},
         hit={
@@ -119,15 +133,34 @@ def main():
     parser.add_argument(
         "--output", default=str(Path(__file__).parent / "results" / "selection.md")
     )
+    parser.add_argument(
+        "--missing",
+        type=float,
+        default=0.0,
+        help="occlusion fraction; > 0 runs the two-motion sequences only",
+    )
     args = parser.parse_args()
     sequences = load_hopkins155(args.data)
-    rows = Parallel(n_jobs=args.jobs)(delayed(run_one)(b) for b in sequences)
+    if args.missing:
+        sequences = [b for b in sequences if b.n_motions == 2]
+    rows = Parallel(n_jobs=args.jobs)(
+        delayed(run_one)(b, args.missing) for b in sequences
+    )
     n = np.array([r["n"] for r in rows])
+    command = (
+        "python benchmarks/bench_selection.py --data ../shared/data/hopkins155 --jobs 2"
+    )
+    data = "complete data"
+    if args.missing:
+        command += f" --missing {args.missing:g} --output {args.output}"
+        data = (
+            f"the {len(rows)} two-motion sequences with "
+            f"`make_missing(X, {args.missing:g}, random_state=0)` (occlusion)"
+        )
     lines = [
         "# Choosing among the candidate segmentations (Hopkins155)",
         "",
-        "`python benchmarks/bench_selection.py --data ../shared/data/hopkins155 "
-        "--jobs 2`: default pipeline, `random_state=0`, complete data. Mean "
+        f"`{command}`: default pipeline, `random_state=0`, {data}. Mean "
         "misclassification (%) over 2-motion / 3-motion / all sequences.",
         "",
         "| segmentation | 2 motions | 3 motions | all |",
@@ -136,6 +169,8 @@ def main():
     names = {
         "kept": "kept by kNN cut + vote cut, fit gate 3 (default)",
         "cut_only": "kept by the kNN cut alone, fit gate 3 (n_votes=0)",
+        "weighted": "kept by kNN cut + confidence x vote cut, fit gate 3 "
+        "(vote_weighting='confidence')",
         "residual_only": "smallest residual among the six",
         "coding": "shortest coding length among the six",
         "oracle": "best of the six in hindsight (oracle)",
@@ -143,10 +178,8 @@ def main():
     }
     for key, name in names.items():
         e = 100 * np.array([r[key] for r in rows])
-        lines.append(
-            f"| {name} | {e[n == 2].mean():.2f} | {e[n == 3].mean():.2f} | "
-            f"{e.mean():.2f} |"
-        )
+        three = f"{e[n == 3].mean():.2f}" if np.any(n == 3) else "—"
+        lines.append(f"| {name} | {e[n == 2].mean():.2f} | {three} | {e.mean():.2f} |")
     failed = np.array([r["failed"] for r in rows])
     longer = np.array([r["truth_longer"] for r in rows])
     larger = np.array([r["truth_cut_larger"] for r in rows])
@@ -169,13 +202,14 @@ def main():
     per_sequence = [
         "",
         "Per sequence where the candidates' errors differ: error (%) of the "
-        "default's choice, of the kNN cut's alone and of the best candidate, "
-        "and the rank correlation of each cut and of their sum with the error "
-        "(NaN where the criterion is constant).",
+        "default's choice, of the kNN cut's alone, of the confidence-weighted "
+        "rule and of the best candidate, the vote graph's confidence, and the "
+        "rank correlation of each cut and of their sum with the error (NaN "
+        "where the criterion is constant).",
         "",
-        "| sequence | motions | default | kNN cut alone | best | rho kNN cut "
-        "| rho vote cut | rho sum |",
-        "|---|---|---|---|---|---|---|---|",
+        "| sequence | motions | default | kNN cut alone | confidence-weighted "
+        "| best | vote confidence | rho kNN cut | rho vote cut | rho sum |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in rows:
         if not r["varies"]:
@@ -183,7 +217,8 @@ def main():
         rho = r["rho"]
         per_sequence.append(
             f"| {r['name']} | {r['n']} | {100 * r['kept']:.2f} | "
-            f"{100 * r['cut_only']:.2f} | {100 * r['oracle']:.2f} | "
+            f"{100 * r['cut_only']:.2f} | {100 * r['weighted']:.2f} | "
+            f"{100 * r['oracle']:.2f} | {r['confidence']:.2f} | "
             f"{rho['kNN cut']:.2f} | {rho['vote cut']:.2f} | "
             f"{rho['kNN cut + vote cut']:.2f} |"
         )

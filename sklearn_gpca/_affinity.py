@@ -13,12 +13,16 @@ are sign invariant: ``x`` and ``-x`` are the same point. Everything is
 
 import numpy as np
 import scipy.sparse as sp
-from sklearn.neighbors import NearestNeighbors
+from joblib import effective_n_jobs
+from sklearn.neighbors import KDTree, NearestNeighbors
 
 from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._memory import chunk_rows
 from sklearn_gpca._rows import TINY
 from sklearn_gpca._spectral import normal_subspace_features
+
+# NearestNeighbors' default leaf size.
+_LEAF_SIZE = NearestNeighbors().leaf_size
 
 
 def sign_invariant_neighbors(
@@ -60,22 +64,37 @@ def sign_invariant_neighbors(
     array([1, 0, 1])
     """
     n_samples = points.shape[0]
+    both = np.vstack([points, -points])
     if queries is not None:
-        tree = NearestNeighbors(n_neighbors=n_neighbors, n_jobs=n_jobs)
-        tree.fit(np.vstack([points, -points]))
-        distances, found = tree.kneighbors(queries)
+        distances, found = _kneighbors(both, queries, n_neighbors, n_jobs)
         found %= n_samples
         return (distances, found) if return_distance else found
-    tree = NearestNeighbors(
-        n_neighbors=min(n_neighbors + 2, 2 * n_samples), n_jobs=n_jobs
-    )
-    tree.fit(np.vstack([points, -points]))
-    _, found = tree.kneighbors(points)
+    _, found = _kneighbors(both, points, min(n_neighbors + 2, 2 * n_samples), n_jobs)
     found = found % n_samples
     # drop the point itself and its antipode, keep the first n_neighbors others
     keep = found != np.arange(n_samples)[:, None]
     order = np.argsort(~keep, axis=1, kind="stable")
     return np.take_along_axis(found, order, axis=1)[:, :n_neighbors]
+
+
+def _kneighbors(points, queries, n_neighbors, n_jobs):
+    """``NearestNeighbors(n_neighbors=n_neighbors, n_jobs=n_jobs).fit(points)
+    .kneighbors(queries)``.
+
+    Where that would query a KD-tree in one job (few features, few
+    neighbours), the tree is built and queried directly, with the same leaf
+    size: the same neighbours and distances without the estimator's fixed
+    costs (validation, parameter checks, a joblib dispatch), which are most
+    of the search on a few hundred points.
+    """
+    n_points, n_features = points.shape
+    # NearestNeighbors(algorithm="auto") picks a KD-tree exactly then
+    kd_tree = n_features <= 15 and n_neighbors < n_points // 2
+    if kd_tree and effective_n_jobs(n_jobs) == 1:
+        tree = KDTree(points, leaf_size=_LEAF_SIZE)
+        return tree.query(queries, k=n_neighbors)
+    search = NearestNeighbors(n_neighbors=n_neighbors, n_jobs=n_jobs).fit(points)
+    return search.kneighbors(queries)
 
 
 def normal_affinity_graph(bases, codims, neighbors, power):
@@ -119,12 +138,12 @@ def normal_affinity_graph(bases, codims, neighbors, power):
 
 def _between_cluster_weights(affinity, labels, n_clusters):
     """``C[a, b] = sum of A_ij over i in cluster a, j in cluster b``."""
-    n_samples = labels.shape[0]
-    indicator = sp.csr_matrix(
-        (np.ones(n_samples), (np.arange(n_samples), labels)),
-        shape=(n_samples, n_clusters),
-    )
-    return (indicator.T @ affinity @ indicator).toarray()
+    # one pass over the stored entries: O(nnz + n_clusters^2)
+    graph = sp.csr_matrix(affinity) if affinity.format != "csr" else affinity
+    rows = np.repeat(np.arange(graph.shape[0]), np.diff(graph.indptr))
+    pairs = labels[rows] * n_clusters + labels[graph.indices]
+    weights = np.bincount(pairs, weights=graph.data, minlength=n_clusters**2)
+    return weights.reshape(n_clusters, n_clusters)
 
 
 def normalized_cut(affinity, labels, n_clusters):

@@ -67,7 +67,13 @@ from sklearn_gpca._subspaces import (
 )
 from sklearn_gpca._validation import Count
 from sklearn_gpca._veronese import n_monomials, veronese_exponents
-from sklearn_gpca._voting import VOTING_ROUNDS, vote_cut, vote_features, voting_runs
+from sklearn_gpca._voting import (
+    VOTING_ROUNDS,
+    vote_confidence,
+    vote_cut,
+    vote_features,
+    voting_runs,
+)
 
 _PARAMETER_CONSTRAINTS = {
     "normalize": ["boolean"],
@@ -78,6 +84,7 @@ _PARAMETER_CONSTRAINTS = {
     "init": [StrOptions({"multi", "spectral"})],
     "n_init": [Count(1, None, closed="left")],
     "n_votes": [Count(0, None, closed="left")],
+    "vote_weighting": [StrOptions({"equal", "confidence"})],
     "refine": ["boolean"],
     "smoothing": [Interval(Real, 0, None, closed="left")],
     "subspace_dim": [
@@ -145,8 +152,18 @@ default="local"
         by a random point and its nearest neighbours, and votes for the pairs
         of points it puts together. The kept candidate minimises the
         normalised cut on the polynomial-normal graph plus the normalised cut
-        on this vote graph. 0 selects by the first cut alone. Time and memory
-        ``O(n R n_clusters)`` on the ``n`` segmented points.
+        on this vote graph (weighted as ``vote_weighting`` says). 0 selects
+        by the first cut alone. Time and memory ``O(n R n_clusters)`` on the
+        ``n`` segmented points, plus ``O(n (R n_clusters)^2)`` for the
+        graph's confidence with ``vote_weighting="confidence"``.
+    vote_weighting : {"equal", "confidence"}, default="equal"
+        Weight of the vote cut in the selection. ``"equal"``: cut plus vote
+        cut. ``"confidence"`` (opt-in): the vote cut times the vote graph's
+        confidence ``vote_confidence_`` in [0, 1], so that votes of runs that
+        each split the points their own way do not outweigh a clean cut of
+        the first graph. ``benchmarks/results/selection.md`` compares them:
+        ``"confidence"`` is better under occlusion and worse on the 3x10^5
+        scaling draw.
     refine : bool, default=True
         Refine each candidate by smoothed K-subspaces (stage 4): alternately
         fit one subspace per cluster and reassign the points. The paper uses
@@ -185,6 +202,16 @@ default="local"
     random_state : int, RandomState instance or None, default=None
         Seeds the subsample, the Lanczos start vectors and k-means. Pass an
         int for reproducible results."""
+
+
+# Fields of the selection (stage 5) kept as fitted attributes (name + "_").
+_SELECTION_FIELDS = (
+    "candidate_ncuts",
+    "candidate_vote_cuts",
+    "vote_confidence",
+    "candidate_residuals",
+    "chosen_candidate",
+)
 
 
 def _fill_parameters(function):
@@ -398,7 +425,7 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
             refined.append(labels)
             n_iter, converged = max(n_iter, iterations), converged and settled
         candidates = refined
-    vote_cuts = None
+    vote_cuts, confidence = None, np.nan
     if graph is not None and p["n_votes"] > 0:
         votes = vote_features(
             voting_runs(
@@ -413,6 +440,8 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
             n_clusters,
         )
         vote_cuts = np.array([vote_cut(votes, c, n_clusters) for c in candidates])
+        if p["vote_weighting"] == "confidence":
+            confidence = vote_confidence(votes, n_clusters)
     chosen, cuts, residuals = select_candidate(
         unit,
         candidates,
@@ -421,6 +450,7 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
         subspace_dim=_subspace_dim(p, unit),
         subspace_dim_tol=p["subspace_dim_tol"],
         vote_cuts=vote_cuts,
+        vote_weight=1.0 if np.isnan(confidence) else confidence,
     )
     if vote_cuts is None:
         vote_cuts = np.full(len(candidates), np.nan)
@@ -431,6 +461,7 @@ def _segment(points, unit, polynomials, n_clusters, p, random_state):
         candidate_labels=np.array(candidates),
         candidate_ncuts=cuts,
         candidate_vote_cuts=vote_cuts,
+        vote_confidence=confidence,
         candidate_residuals=residuals,
         chosen_candidate=chosen,
         selection_graph=graph,
@@ -483,6 +514,7 @@ def gpca(
     init="multi",
     n_init=10,
     n_votes=100,
+    vote_weighting="equal",
     refine=True,
     smoothing=5.0,
     subspace_dim=None,
@@ -527,7 +559,9 @@ def gpca(
         - ``candidate_labels``, ndarray of shape (n_candidates,
           len(segmented)): the refined candidates;
         - ``candidate_ncuts``, ``candidate_vote_cuts``,
-          ``candidate_residuals``, ndarray of shape (n_candidates,), and
+          ``candidate_residuals``, ndarray of shape (n_candidates,),
+          ``vote_confidence``, float (NaN without votes or with
+          ``vote_weighting="equal"``), and
           ``chosen_candidate``, int: the selection;
         - ``selection_graph``: the sparse graph of the cuts, or None;
         - ``local_neighbors``, ndarray of shape (len(segmented), n_local):
@@ -754,12 +788,19 @@ default="auto"
         Normalised cut of each (refined) candidate on the vote graph of the
         ``n_votes`` randomized-voting runs, between 0 and ``n_clusters``,
         lower is better; NaN with ``n_votes=0`` or a single candidate.
+    vote_confidence_ : float
+        Confidence of the vote graph, in [0, 1]: the mean of the eigenvalues
+        ``2 .. n_clusters`` of the normalised vote matrix (1 when all runs
+        agree; see Notes), computed with ``vote_weighting="confidence"``
+        only; NaN otherwise, with ``n_votes=0`` or with a single candidate.
     candidate_residuals_ : ndarray of shape (n_candidates,)
         Sum of squared sine distances of the (unit) points to their cluster's
         fitted subspace, for each candidate, lower is better. The kept
-        candidate has the smallest ``candidate_ncuts_ +
-        candidate_vote_cuts_`` (``candidate_ncuts_`` with ``n_votes=0``)
-        among those within a factor 3 of the smallest residual (see Notes).
+        candidate has the smallest ``candidate_ncuts_ + w *
+        candidate_vote_cuts_`` (``w = 1``, or ``vote_confidence_`` with
+        ``vote_weighting="confidence"``; ``candidate_ncuts_`` alone with
+        ``n_votes=0``) among those within a factor 3 of the smallest residual
+        (see Notes).
     chosen_candidate_ : int
         Index of the kept candidate: ``2 g + s`` with graph ``g`` (0: the
         affinity graph, 1: its coarse scale, 2: the product graph; the coarse
@@ -869,6 +910,11 @@ n_features_in_) or None
     ``k / 3`` nearest neighbours, and ``V_ij`` the number of runs that put
     ``i`` and ``j`` together. ``V = B B^T`` with ``B`` the ``P x R n``
     one-hot matrix of the runs' labels, so its cut costs ``O(P R n)``.
+    The vote graph's confidence ``c`` is the mean of the eigenvalues
+    ``2 .. n`` of ``D^{-1/2} V D^{-1/2}``: every labelling cuts ``V`` by at
+    least ``(n - 1)(1 - c)`` (the spectral relaxation), so when the runs
+    disagree (``c`` small) no candidate separates well on ``V``. With
+    ``vote_weighting="confidence"`` the vote cut is weighted by ``c``.
     ``benchmarks/results/selection.md`` measures how the cuts and the
     residual agree with the error on Hopkins155.
 
@@ -939,6 +985,7 @@ n_features_in_) or None
         init="multi",
         n_init=10,
         n_votes=100,
+        vote_weighting="equal",
         refine=True,
         smoothing=5.0,
         subspace_dim=None,
@@ -961,6 +1008,7 @@ n_features_in_) or None
         self.init = init
         self.n_init = n_init
         self.n_votes = n_votes
+        self.vote_weighting = vote_weighting
         self.refine = refine
         self.smoothing = smoothing
         self.subspace_dim = subspace_dim
@@ -1089,10 +1137,8 @@ n_features_in_) or None
         self.exponents_ = veronese_exponents(Z.shape[1], self.n_clusters_)
         self.n_spectral_samples_ = result.segmented.size
         self.n_iter_ = result.n_iter
-        self.candidate_ncuts_ = result.candidate_ncuts
-        self.candidate_vote_cuts_ = result.candidate_vote_cuts
-        self.candidate_residuals_ = result.candidate_residuals
-        self.chosen_candidate_ = result.chosen_candidate
+        for name in _SELECTION_FIELDS:
+            setattr(self, f"{name}_", result[name])
         self.reference_points_ = unit_rows(Z[result.reference])
         self.reference_labels_ = self.labels_[result.reference]
         self.residual_scale_ = result.residual_scale

@@ -1,4 +1,11 @@
-"""Tracks that follow no motion: a chi-square test on local windows of frames.
+"""Tracks that follow no motion, and the segmentation that sets them aside.
+
+:func:`screened_segmentation` is what ``segment_motions(outlier_threshold=...)``
+runs: the label-free local test of :mod:`sklearn_gpca._local_outliers`, then
+the segmentation of the tracks that pass it. :func:`outlier_pvalues` below
+is the earlier test, against each motion's subspace (it needs labels): it
+serves ``refine_observed(outlier_threshold=...)`` and
+``benchmarks/bench_outliers.py`` (given the true labels, as a ceiling).
 
 A track of motion ``k`` observed on the coordinates ``O`` of a window of
 frames has, under Gaussian noise of variance ``sigma_k^2`` per coordinate,
@@ -217,3 +224,74 @@ def outlier_pvalues(
         n_tests += tested
     log_bonferroni = smallest + np.log(np.maximum(n_tests, 1))
     return np.minimum(np.exp(log_bonferroni), 1.0)
+
+
+def screened_segmentation(
+    segment, X, n_motions, *, outlier_threshold, init, return_info, **kwargs
+):
+    """Label ``-1`` the tracks that fail the local test, segment the others.
+
+    The test (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`)
+    needs no segmentation, so the outliers are set aside *before* the
+    candidate segmentations are drawn and one is selected: they can no
+    longer pull a motion's subspace or merge two motions.
+
+    Parameters
+    ----------
+    segment : callable
+        ``segment_motions``, called on the tracks that pass the test with
+        ``outlier_threshold=None`` and the other keywords.
+    X : ndarray of shape (n_samples, 2 * n_frames)
+        Tracks, NaN where missing (checked by the caller).
+    n_motions : int
+    outlier_threshold : float in (0, 1)
+        False-alarm probability of the test per track.
+    init : str or array-like of shape (n_samples,)
+        As for ``segment``; an array is restricted to the kept tracks.
+    return_info : bool
+        Also return ``segment``'s Bunch (about the kept tracks), with
+        ``outlier_pvalues`` (every track's p-value) and ``outliers`` (bool
+        mask of the tracks labelled ``-1``).
+    **kwargs
+        Passed to ``segment``.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+    info : Bunch
+        Only with ``return_info``.
+    """
+    from sklearn_gpca._local_outliers import local_outlier_pvalues
+    from sklearn_gpca._observed_subspaces import observed_entries
+
+    n_samples = X.shape[0]
+    if not isinstance(init, str):
+        init = np.asarray(init)
+        if init.shape != (n_samples,):
+            raise ValueError(
+                f"init must hold one label in 0 .. {n_motions - 1} per track "
+                f"({n_samples}), got shape {init.shape}."
+            )
+    X0, mask = observed_entries(X)
+    pvalues = local_outlier_pvalues(X0, mask)
+    outliers = pvalues < outlier_threshold
+    if np.count_nonzero(~outliers) <= n_motions:
+        # too few tracks left to segment: the test is not applied
+        outliers[:] = False
+    kept = ~outliers
+    result = segment(
+        X[kept],
+        n_motions,
+        init=init if isinstance(init, str) else init[kept],
+        outlier_threshold=None,
+        return_info=return_info,
+        **kwargs,
+    )
+    labels = np.full(n_samples, -1, dtype=np.intp)
+    labels[kept] = result[0] if return_info else result
+    if return_info:
+        info = result[1]
+        info.outlier_pvalues = pvalues
+        info.outliers = outliers
+        return labels, info
+    return labels

@@ -28,7 +28,8 @@ sequence -- and returns one motion label per track. Beyond the paper
 4. optionally (``merge_split=True``), merge/split moves
    (:mod:`sklearn_gpca._merge_split`): two motions merged and another cut in
    two, refined, kept while the selection rule prefers the result;
-5. optionally, tracks that fit no motion labelled ``-1``.
+5. optionally, tracks that disagree with their neighbours labelled ``-1``,
+   and set aside before step 1.
 
 :class:`sklearn_gpca.MotionSegmentation` is the estimator around it.
 """
@@ -56,6 +57,7 @@ from sklearn_gpca._observed_subspaces import (
     observed_entries,
     subspace_residuals,
 )
+from sklearn_gpca._outliers import screened_segmentation
 from sklearn_gpca._refine_observed import refine_observed
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
@@ -221,11 +223,7 @@ def votes_candidate(X, X0, mask, n_motions, models, *, random_state):
 
 
 def _merge_split(X0, mask, labels, n_motions, affinity, noise, refine_kwargs):
-    """Merge/split moves from ``labels``, judged by ``selection="separability"``.
-
-    The moves are refined without the outlier test (the tracks labelled
-    ``-1`` start unlabelled) and judged on all tracks.
-    """
+    """Merge/split moves from ``labels``, judged by ``selection="separability"``."""
     random_state = refine_kwargs["random_state"]
 
     def split(members):
@@ -253,8 +251,6 @@ def _merge_split(X0, mask, labels, n_motions, affinity, noise, refine_kwargs):
             subspace_dim=max(refine_kwargs["subspace_dim"] - AMBIGUITY_DIM_DROP, 1),
         )
 
-    if (labels < 0).any():
-        labels = refine(labels)
     return merge_split_search(
         labels,
         n_motions,
@@ -384,21 +380,21 @@ def segment_motions(
         Maximum rounds of the refinement.
     outlier_threshold : float in (0, 1) or None, default=None
         Label ``-1`` (the noise label of DBSCAN and HDBSCAN) the tracks that
-        fit no motion: the probability of flagging a track whose residuals
-        are Gaussian noise at its motion's level (a false-alarm rate per
-        track; e.g. ``1e-3``). The test
-        (:func:`sklearn_gpca._outliers.outlier_pvalues`) compares each
-        track's residual to every motion on windows of 16 frames with the
-        chi-square law of its degrees of freedom, the noise of each motion
-        estimated robustly from its tracks, so a random walk fails
-        everywhere and a tracker's drift or jump from one motion to another
-        fails on the windows around its switch. The flagged tracks are left
-        out of the subspace fits and the refinement is run again. None
-        labels every track with a motion. Tracks seen in 2 frames or fewer
-        cannot be tested and keep a motion label; a drift between two
-        motions that move alike is not seen; under strong perspective (a
-        forward-moving camera) the nearest background points misfit more
-        than the noise and some are flagged
+        disagree with their neighbours: the probability of flagging a track
+        whose residuals are Gaussian noise (a false-alarm rate per track;
+        e.g. ``1e-3``). The test
+        (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`) needs
+        no segmentation: on windows of 10 frames, each track is compared
+        with the subspace of the tracks that move most like it and observe
+        its frames, with an F test against their own spread. The flagged
+        tracks are set aside *before* the candidate segmentations, so that
+        they cannot break them; the others are segmented as without the
+        option. None labels every track with a motion. Tracks seen in 2
+        frames or fewer (within every window) cannot be tested and keep a
+        motion label; a drift between two motions that move alike, or seen
+        in 2-3 frames after its switch, is often missed; under strong
+        perspective (a forward-moving camera) the nearest, fastest
+        background tracks misfit their neighbours and some are flagged
         (``benchmarks/results/outliers.md`` gives precision and recall).
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
@@ -418,7 +414,10 @@ def segment_motions(
         ambiguous tracks; NaN for a candidate of one motion), ``chosen``
         (index; ``refined[chosen]`` is the segmentation before the
         merge/split moves), ``n_moves`` (moves kept), ``noise`` (variance
-        per coordinate, in the units of the scaled tracks) and ``scale`` (the RMS used).
+        per coordinate, in the units of the scaled tracks) and ``scale`` (the
+        RMS used); with ``outlier_threshold``, these describe the tracks that
+        pass the test, and ``outlier_pvalues`` and ``outliers`` (mask of the
+        ``-1``) are added.
 
     Examples
     --------
@@ -433,6 +432,24 @@ def segment_motions(
     True
     """
     X = _check_tracks(X, n_motions)
+    if outlier_threshold is not None:
+        # outliers set aside before the candidates (sklearn_gpca._outliers)
+        return screened_segmentation(
+            segment_motions,
+            X,
+            n_motions,
+            outlier_threshold=outlier_threshold,
+            init=init,
+            return_info=return_info,
+            selection=selection,
+            merge_split=merge_split,
+            subspace_dim=subspace_dim,
+            smoothing=smoothing,
+            n_neighbors=n_neighbors,
+            per_cluster=per_cluster,
+            max_iter=max_iter,
+            random_state=random_state,
+        )
     random_state = check_random_state(random_state)
     n_samples = X.shape[0]
     X0, mask = observed_entries(X)
@@ -550,15 +567,6 @@ def segment_motions(
         labels, n_moves = _merge_split(
             X0, mask, labels, n_motions, affinity, noise, refine_kwargs
         )
-        if outlier_threshold is not None:
-            labels = refine_observed(
-                X0,
-                mask,
-                labels,
-                n_motions,
-                **refine_kwargs,
-                outlier_threshold=outlier_threshold,
-            )[0]
     if return_info:
         return labels, Bunch(
             candidates=names,

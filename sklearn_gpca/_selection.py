@@ -14,7 +14,12 @@ only neighbourhoods; with randomized voting (:mod:`sklearn_gpca._voting`)
 the normalised cut on the vote graph, whose edges join points that many
 K-subspaces runs put together anywhere on the sphere, is added to it: a
 candidate merging two subspaces that the kNN graph barely separates cuts
-through many votes. A candidate whose
+through many votes. The vote cut may be weighted by the vote graph's
+confidence (:func:`~sklearn_gpca._voting.vote_confidence`): when the runs
+split the points each their own way, no labelling cuts the vote graph much
+below chance, and the small differences between the candidates' vote cuts
+are weak evidence against a candidate the kNN graph separates cleanly. A
+candidate whose
 subspaces fit ``fit_gate`` times worse than the best one has merged two
 subspaces (and split another): it is not ``n`` subspaces, whatever its cut.
 """
@@ -69,6 +74,7 @@ def select_candidate(
     subspace_dim_tol,
     fit_gate=FIT_GATE,
     vote_cuts=None,
+    vote_weight=1.0,
 ):
     """The candidate with the smallest normalised cut among those that fit.
 
@@ -87,7 +93,10 @@ def select_candidate(
     vote_cuts : ndarray of shape (n_candidates,) or None, default=None
         Normalised cut of each candidate on a second affinity, e.g. the vote
         graph of :mod:`sklearn_gpca._voting`; when given, the kept candidate
-        minimises ``cuts + vote_cuts`` (among those that fit).
+        minimises ``cuts + vote_weight * vote_cuts`` (among those that fit).
+    vote_weight : float, default=1.0
+        Weight of ``vote_cuts``, in [0, 1]: the confidence of their graph
+        (:func:`~sklearn_gpca._voting.vote_confidence`).
 
     Returns
     -------
@@ -126,7 +135,12 @@ def select_candidate(
                 f"vote_cuts has shape {vote_cuts.shape}, expected one value per "
                 f"candidate: {cuts.shape}."
             )
-        score = cuts + vote_cuts
+        if not (np.isfinite(vote_weight) and 0.0 <= vote_weight <= 1.0):
+            raise ValueError(
+                f"vote_weight={vote_weight!r} must be a number in [0, 1]: the "
+                "confidence of the vote graph (vote_confidence)."
+            )
+        score = cuts + vote_weight * vote_cuts
     admissible = residuals <= fit_gate * residuals.min()
     chosen = int(np.argmin(np.where(admissible, score, np.inf)))
     return chosen, cuts, residuals

@@ -10,6 +10,12 @@ the ``R`` runs' labels, is low rank: its spectral clustering, and the
 normalised cut of any labelling on it, cost ``O(P R n)`` and never form the
 ``P x P`` matrix. All runs advance together (batched over runs): no Python
 loop over runs or points.
+
+The vote graph is only as informative as the runs agree. Its confidence
+(:func:`vote_confidence`) is the mean of the eigenvalues ``2 .. n`` of the
+normalised vote matrix, one minus the spectral lower bound on its smallest
+``n``-way normalised cut relative to chance (``n - 1``): near 1 when the runs
+reach one segmentation, small when each run splits the points its own way.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -199,3 +205,54 @@ def vote_cut(features, labels, n_clusters):
         return np.inf
     within = np.einsum("kd,kd->k", sums, sums)
     return float(np.sum(1.0 - within / volumes))
+
+
+def vote_confidence(features, n_clusters):
+    """How well the vote graph separates into ``n_clusters`` groups, in [0, 1].
+
+    With ``N = D^{-1/2} B B^T D^{-1/2}`` the normalised vote matrix and
+    ``1 = l_1 >= l_2 >= ...`` its eigenvalues, every labelling into ``n``
+    clusters has a normalised cut of at least ``sum_{k=2}^n (1 - l_k)``
+    (the spectral relaxation of the cut), while labels independent of the
+    votes cut about ``n - 1``. The confidence ``mean(l_2 .. l_n)`` is one
+    minus that bound over ``n - 1``: 1 when all runs agree on one
+    segmentation (the graph has ``n`` components), near 0 when they split
+    the points independently of each other. Time ``O(P (R n)^2)``.
+
+    Parameters
+    ----------
+    features : ndarray of shape (n_samples, n_dims)
+        Non-negative factor ``B`` (:func:`vote_features`), every row non-zero.
+    n_clusters : int
+        Number of clusters, at least 2.
+
+    Returns
+    -------
+    confidence : float
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca._voting import vote_confidence, vote_features
+    >>> agree = np.array([[0, 0, 0], [0, 0, 0], [1, 1, 1], [1, 1, 1]])
+    >>> round(vote_confidence(vote_features(agree, 2), 2), 6)
+    1.0
+    >>> disagree = np.array([[0, 0, 0], [0, 1, 1], [1, 0, 1], [1, 1, 0]])
+    >>> round(vote_confidence(vote_features(disagree, 2), 2), 6)
+    0.333333
+    """
+    degrees = features @ features.sum(axis=0)
+    if np.any(degrees <= 0):
+        raise ValueError(
+            "vote_confidence needs every point in at least one vote: "
+            "features has all-zero rows."
+        )
+    if not 2 <= n_clusters <= min(features.shape):
+        raise ValueError(
+            f"n_clusters={n_clusters} must be at least 2 and at most "
+            f"min(features.shape)={min(features.shape)}."
+        )
+    scaled = features / np.sqrt(degrees)[:, None]
+    # singular values of D^{-1/2} B: square roots of the eigenvalues of N
+    values = np.linalg.svd(scaled, compute_uv=False)[:n_clusters] ** 2
+    return float(np.clip(values[1:].mean(), 0.0, 1.0))

@@ -6,8 +6,11 @@ import numpy as np
 import pytest
 import scipy.sparse as sp
 from numpy.testing import assert_allclose, assert_array_equal
+from sklearn.neighbors import NearestNeighbors
 
 from sklearn_gpca._affinity import (
+    _between_cluster_weights,
+    _kneighbors,
     merge_clusters,
     normal_affinity_graph,
     normalized_cut,
@@ -109,3 +112,41 @@ def test_merge_clusters_joins_split_block():
     assert set(merged) == {0, 1}
     assert_array_equal(merged[:20], merged[0])
     assert merged[0] != merged[-1]
+
+
+@pytest.mark.parametrize("fmt", ["csr", "csc", "coo"])
+def test_between_cluster_weights_sum_the_blocks(fmt):
+    rng = np.random.RandomState(6)
+    dense = rng.uniform(size=(30, 30)) * (rng.uniform(size=(30, 30)) < 0.2)
+    labels = rng.randint(0, 4, 30)
+    labels[:4] = np.arange(4)
+    expected = np.array(
+        [[dense[labels == a][:, labels == b].sum() for b in range(4)] for a in range(4)]
+    )
+    affinity = sp.csr_matrix(dense).asformat(fmt)
+    assert_allclose(_between_cluster_weights(affinity, labels, 4), expected)
+    # duplicate entries of a COO matrix add up, as in the matrix they stand for
+    halves = sp.coo_matrix(dense / 2)
+    doubled = sp.coo_matrix(
+        (
+            np.tile(halves.data, 2),
+            (np.tile(halves.row, 2), np.tile(halves.col, 2)),
+        ),
+        shape=dense.shape,
+    )
+    assert_allclose(_between_cluster_weights(doubled, labels, 4), expected)
+
+
+@pytest.mark.parametrize("n_neighbors", [5, 40, 70])
+@pytest.mark.parametrize("n_jobs", [None, 2])
+def test_kneighbors_is_nearest_neighbors_search(n_neighbors, n_jobs):
+    # 5 and 40 neighbours of 100 points: a KD-tree; 70: brute force
+    rng = np.random.RandomState(7)
+    points = unit(rng.randn(100, 4))
+    points[50:60] = points[:10]  # exact ties
+    queries = np.vstack([points[:30], unit(rng.randn(20, 4))])
+    search = NearestNeighbors(n_neighbors=n_neighbors).fit(points)
+    expected = search.kneighbors(queries)
+    found = _kneighbors(points, queries, n_neighbors, n_jobs)
+    assert_array_equal(found[1], expected[1])
+    assert_array_equal(found[0], expected[0])

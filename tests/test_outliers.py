@@ -132,13 +132,9 @@ def test_true_labels_flag_every_clear_outlier_and_no_inlier(seed):
 
 
 def test_segment_motions_flags_outliers_of_a_draw():
-    # The refinement and the test of segment_motions (outliers not known):
-    # started from the true motions with every outlier put in a random
-    # motion, as a segmentation would, the inliers keep their labels, the
-    # clear outliers (as above) are flagged, and no inlier is. (The candidate
-    # segmentations themselves can fail on such draws: the fragments route
-    # puts the outliers in a motion of their own on this draw with
-    # OMP_NUM_THREADS=1.)
+    # segment_motions (outliers not known) started from the true motions with
+    # every outlier put in a random motion: the local test flags the clear
+    # outliers (as above) and no inlier, and the inliers keep their labels.
     X, y, info = _affine_draw(0)
     n = int(y.max()) + 1
     start = np.where(y >= 0, y, np.random.RandomState(0).randint(n, size=y.size))

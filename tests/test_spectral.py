@@ -4,7 +4,8 @@
 
 import numpy as np
 import pytest
-from numpy.testing import assert_allclose
+import scipy.sparse as sp
+from numpy.testing import assert_allclose, assert_array_equal
 from scipy.linalg import eigh
 from sklearn.cluster import KMeans, SpectralClustering
 from sklearn.metrics import adjusted_rand_score
@@ -12,7 +13,9 @@ from threadpoolctl import threadpool_info, threadpool_limits
 
 from sklearn_gpca import _spectral
 from sklearn_gpca._spectral import (
+    _shift_invert_eigenpairs,
     embedding_kmeans,
+    leading_eigenvectors,
     lowrank_eigenvectors,
     normal_subspace_features,
     spectral_clustering_lowrank,
@@ -134,3 +137,112 @@ def test_kmeans_runs_with_one_openmp_thread(monkeypatch):
         assert set(_openmp_threads()) == {2}  # restored afterwards
     assert seen and set(seen) == {1}
     assert adjusted_rand_score(np.repeat([0, 1], 5), labels) == 1.0
+
+
+def _block_graph(sizes, cross, seed, n_isolated=0):
+    """Sparse symmetric affinity: random blocks, weak cross edges, isolated
+    points at the end; and its normalised dense matrix D^{-1/2} A D^{-1/2}."""
+    rng = np.random.RandomState(seed)
+    labels = np.repeat(np.arange(len(sizes)), sizes)
+    same = labels[:, None] == labels[None, :]
+    A = rng.uniform(0.2, 1.0, same.shape) * (same + cross * ~same)
+    A *= rng.uniform(size=A.shape) < 0.3  # sparse
+    A = np.triu(A, 1)
+    A = np.pad(A + A.T, (0, n_isolated))
+    degrees = A.sum(axis=1)
+    inv_sqrt = np.where(degrees > 0, 1 / np.sqrt(np.maximum(degrees, 1e-300)), 0.0)
+    return sp.csr_matrix(A), A * inv_sqrt[:, None] * inv_sqrt
+
+
+def _route(monkeypatch, route):
+    """Force the dense shift-invert route (and check that it is the one
+    taken) or the sparse Lanczos route."""
+    limit = {"dense": 10**9, "sparse": 0}[route]
+    monkeypatch.setattr(_spectral, "DENSE_EIGEN_SAMPLES", limit)
+    if route == "dense":
+
+        def no_lanczos(*args):
+            raise AssertionError("the shift-invert route fell back to Lanczos")
+
+        monkeypatch.setattr(_spectral, "_lanczos_eigenpairs", no_lanczos)
+
+
+@pytest.mark.parametrize("route", ["dense", "sparse"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_leading_eigenvectors_match_dense_eigh(monkeypatch, route, seed):
+    _route(monkeypatch, route)
+    affinity, normalized = _block_graph([40, 30, 50, 20], 0.02, seed, n_isolated=2)
+    vectors = leading_eigenvectors(affinity, 3, np.random.RandomState(seed))
+    values, reference = np.linalg.eigh(normalized)
+    reference = reference[:, ::-1][:, :3]
+    reference[-2:] = 0.0  # isolated points: zero rows
+    assert vectors.shape == (142, 3)
+    # same leading m-spaces, m = 1, 2, 3 (eigenvalues distinct here)
+    assert np.min(np.diff(values[::-1][:4]) ** 2) > 1e-6
+    for m in (1, 2, 3):
+        assert_allclose(
+            vectors[:, :m] @ vectors[:, :m].T,
+            reference[:, :m] @ reference[:, :m].T,
+            atol=1e-8,
+        )
+
+
+@pytest.mark.parametrize("route", ["dense", "sparse"])
+def test_leading_eigenvectors_of_disconnected_graph(monkeypatch, route):
+    # five components: eigenvalue 1 five times, any 3 of its vectors will do
+    _route(monkeypatch, route)
+    affinity, normalized = _block_graph([20, 25, 30, 15, 20], 0.0, seed=2)
+    vectors = leading_eigenvectors(affinity, 3, np.random.RandomState(0))
+    assert_allclose(normalized @ vectors, vectors, atol=1e-8)
+    assert_allclose(vectors.T @ vectors, np.eye(3), atol=1e-8)
+
+
+def test_leading_eigenvectors_routes_draw_the_same_numbers(monkeypatch):
+    # later draws of the caller's generator (k-means seeds) do not depend on
+    # the route: both draw exactly the Lanczos start vector
+    affinity, _ = _block_graph([30, 30], 0.05, seed=3)
+    states = []
+    for route in ("dense", "sparse"):
+        with monkeypatch.context() as patch:
+            _route(patch, route)
+            random_state = np.random.RandomState(0)
+            leading_eigenvectors(affinity, 2, random_state)
+            states.append(random_state.uniform(size=3))
+    expected = np.random.RandomState(0)
+    expected.uniform(-1, 1, 60)
+    assert_array_equal(states[0], states[1])
+    assert_array_equal(states[0], expected.uniform(size=3))
+
+
+def test_shift_invert_falls_back_to_lanczos(monkeypatch):
+    affinity, normalized = _block_graph([40, 30, 50], 0.02, seed=4)
+    start = np.random.RandomState(0).uniform(-1, 1, 120)
+    # a shift inside the spectrum: sigma I - M is indefinite, no Cholesky factor
+    monkeypatch.setattr(_spectral, "_SHIFT", -0.5)
+    assert _shift_invert_eigenpairs(normalized.copy(), 3, start) is None
+    monkeypatch.setattr(_spectral, "DENSE_EIGEN_SAMPLES", 10**9)
+    vectors = leading_eigenvectors(affinity, 3, np.random.RandomState(0))
+    reference = np.linalg.eigh(normalized)[1][:, ::-1][:, :3]
+    assert_allclose(vectors @ vectors.T, reference @ reference.T, atol=1e-8)
+
+
+def test_shift_invert_runs_with_one_blas_thread(monkeypatch):
+    if not [i for i in threadpool_info() if i["user_api"] == "blas"]:
+        pytest.skip("no BLAS found by threadpoolctl")
+    seen = []
+    shift_invert = _spectral._shift_invert_eigenpairs
+
+    def recording(*args):
+        seen.extend(
+            i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"
+        )
+        return shift_invert(*args)
+
+    monkeypatch.setattr(_spectral, "_shift_invert_eigenpairs", recording)
+    affinity, _ = _block_graph([30, 30], 0.05, seed=5)
+    with threadpool_limits(2, user_api="blas"):
+        leading_eigenvectors(affinity, 2, np.random.RandomState(0))
+        assert {
+            i["num_threads"] for i in threadpool_info() if i["user_api"] == "blas"
+        } == {2}
+    assert seen and set(seen) == {1}

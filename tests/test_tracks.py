@@ -252,12 +252,12 @@ def test_lifetimes_are_geometric_with_the_stated_mean():
     assert abs(info.lifetime.mean() - mean) < 5 * sd / np.sqrt(y.size)
 
 
-def test_geometric_lifetimes_match_the_distribution():
+@pytest.mark.parametrize("mean", [1.5, 8.0])
+def test_geometric_lifetimes_match_the_distribution(mean):
     rng = np.random.RandomState(0)
-    mean = 8.0
     lifetimes = geometric_lifetimes(1.0 - rng.random_sample(20000), mean)
     assert lifetimes.min() == 1
-    for k in (1, 2, 5, 10, 20):
+    for k in (1, 2, 3, 5, 10, 20):
         expected = (1 - 1 / mean) ** (k - 1)
         freq = np.mean(lifetimes >= k)
         assert abs(freq - expected) <= 5 * np.sqrt(expected * (1 - expected) / 20000)
@@ -297,6 +297,9 @@ def test_info_describes_the_draw():
     assert np.all(info.source_motions[switching] >= 0)
     assert set(info.end_reason) <= {"lifetime", "left_view", "occluded", "sequence_end"}
     assert info.params["n_frames"] == F
+    # frame indices and counts are integers (they index the frames)
+    for name in ("birth", "end", "lifetime", "switch_frame", "source_motions"):
+        assert info[name].dtype == np.int64, name
 
 
 @pytest.mark.parametrize(
@@ -604,3 +607,53 @@ def test_outlier_kinds_follow_the_documented_mix(scene, seed):
     for kind, share in [("drift", 0.5), ("jump", 0.25), ("random_walk", 0.25)]:
         sd = np.sqrt(n_outliers * share * (1 - share))
         assert abs(np.sum(kinds == kind) - n_outliers * share) <= 4 * sd, kind
+
+
+def test_unreachable_missing_message_gives_the_floor_and_the_remedies():
+    msg = (
+        r"missing=0.1 cannot be reached: tracks leaving the view or being "
+        r"occluded already miss 0\.\d{3} of the entries with endless lifetimes\. "
+        r"Ask for more missing data, fewer frames, a higher frame_rate or a "
+        r"slower camera \(forward_speed\)\.$"
+    )
+    with pytest.raises(ValueError, match=msg):
+        make_tracks(scene="driving", n_frames=40, missing=0.1, random_state=0)
+
+
+def test_first_frame_share_is_one_minus_missing_when_reachable():
+    """A tracker replacing every lost track starts ``1 - missing`` of its tracks
+    in frame 0 (Notes); a hand-held pan loses few tracks from the view, so
+    that share reaches 50 % missing. Binomial births, bounds at 5 standard
+    deviations."""
+    for seed in range(3):
+        X, _y, info = make_tracks(
+            scene="handheld",
+            n_tracks=400,
+            n_frames=30,
+            missing=0.5,
+            random_state=seed,
+            return_info=True,
+        )
+        assert info.first_frame_share == 0.5
+        assert abs(np.mean(info.birth == 0) - 0.5) < 5 * np.sqrt(0.25 / 400)
+        assert abs(np.isnan(X).mean() - 0.5) <= 0.005
+
+
+def test_first_frame_share_rises_where_the_view_loses_tracks():
+    """Driving forward, tracks leave the view fast: 50 % missing on 20 frames
+    needs a share ``q`` of births in frame 0 above ``1 - missing``, halfway
+    to 1 or 1 (Notes), and is still reached (within 0.005)."""
+    shares = []
+    for seed in range(3):
+        X, _y, info = make_tracks(
+            scene="driving",
+            n_tracks=100,
+            n_frames=20,
+            missing=0.5,
+            random_state=seed,
+            return_info=True,
+        )
+        assert info.first_frame_share in (0.5, 0.75, 1.0)
+        assert abs(np.isnan(X).mean() - 0.5) <= 0.005
+        shares.append(info.first_frame_share)
+    assert max(shares) > 0.5

@@ -17,11 +17,12 @@ from sklearn_gpca._spectral import spectral_clustering_lowrank
 from sklearn_gpca._voting import (
     _nearest,
     _scatters,
+    vote_confidence,
     vote_cut,
     vote_features,
     voting_runs,
 )
-from sklearn_gpca.datasets import make_motions
+from sklearn_gpca.datasets import load_hopkins155, make_missing, make_motions
 from sklearn_gpca.metrics import misclassification_rate
 
 
@@ -209,13 +210,20 @@ def test_default_pipeline_vote_cut_prefers_truth_on_motions():
 
 
 def test_selection_uses_both_cuts():
-    """``n_votes > 0``: the kept candidate minimises cut + vote cut among those
+    """``n_votes > 0``: the kept candidate minimises cut + vote cut (times the
+    vote graph's confidence with ``vote_weighting="confidence"``) among those
     that fit; ``n_votes=0``: the cut alone, and no vote cuts."""
     unit, _ = three_hyperplanes(n_per=60, noise=1e-2, seed=3)
     voted = GPCAClustering(3, random_state=0).fit(unit)
     plain = GPCAClustering(3, n_votes=0, random_state=0).fit(unit)
+    weighted = GPCAClustering(3, vote_weighting="confidence", random_state=0)
+    weighted.fit(unit)
+    weight = weighted.vote_confidence_
+    assert 0 < weight <= 1
+    assert np.isnan(plain.vote_confidence_) and np.isnan(voted.vote_confidence_)
     for model, score in [
         (voted, voted.candidate_ncuts_ + voted.candidate_vote_cuts_),
+        (weighted, weighted.candidate_ncuts_ + weight * weighted.candidate_vote_cuts_),
         (plain, plain.candidate_ncuts_),
     ]:
         residuals = model.candidate_residuals_
@@ -248,3 +256,141 @@ def test_vote_cuts_shape_checked():
             subspace_dim_tol=0.05,
             vote_cuts=[0.1],
         )
+
+
+def normalized_vote_eigenvalues(runs, n_clusters):
+    """Eigenvalues of ``D^{-1/2} V D^{-1/2}`` from the dense vote matrix."""
+    same = (runs[:, None, :] == runs[None, :, :]).sum(axis=2).astype(float)
+    scale = 1 / np.sqrt(same.sum(axis=1))
+    return np.sort(np.linalg.eigvalsh(same * scale[:, None] * scale[None, :]))[::-1]
+
+
+@pytest.mark.parametrize("n_clusters", [2, 3])
+def test_vote_confidence_is_mean_of_normalized_eigenvalues(n_clusters):
+    rng = np.random.RandomState(n_clusters)
+    truth = rng.randint(n_clusters, size=50)
+    runs = np.where(
+        rng.rand(50, 12) < 0.3, rng.randint(n_clusters, size=(50, 12)), truth[:, None]
+    )
+    values = normalized_vote_eigenvalues(runs, n_clusters)
+    assert_allclose(values[0], 1.0)
+    assert_allclose(
+        vote_confidence(vote_features(runs, n_clusters), n_clusters),
+        values[1:n_clusters].mean(),
+    )
+
+
+def test_vote_confidence_bounds_every_vote_cut():
+    """No labelling cuts the vote graph below ``(n - 1)(1 - confidence)``
+    (spectral relaxation); the runs' consensus cuts it at zero."""
+    rng = np.random.RandomState(0)
+    consensus = np.repeat([0, 1, 2], 20)
+    runs = np.where(
+        rng.rand(60, 30) < 0.4, rng.randint(3, size=(60, 30)), consensus[:, None]
+    )
+    features = vote_features(runs, 3)
+    bound = 2 * (1 - vote_confidence(features, 3))
+    for labels in [consensus, rng.randint(3, size=60), merged_labels(consensus)]:
+        assert vote_cut(features, labels, 3) >= bound - 1e-12
+    agreeing = vote_features(np.repeat(consensus[:, None], 30, axis=1), 3)
+    assert_allclose(vote_confidence(agreeing, 3), 1.0)
+    assert_allclose(vote_cut(agreeing, consensus, 3), 0.0, atol=1e-12)
+
+
+def test_vote_confidence_low_when_runs_disagree():
+    """Runs that split the points independently of each other: the normalised
+    vote matrix is 1/R times a sum of R independent rank-one centred parts,
+    its second eigenvalue about (1 + sqrt(R / P))^2 / R = 0.075 here."""
+    runs = np.random.RandomState(0).randint(2, size=(400, 20))
+    assert vote_confidence(vote_features(runs, 2), 2) < 0.2
+
+
+def test_vote_confidence_validated():
+    features = vote_features(np.array([[0, 1], [1, 0], [0, 0]]), 2)
+    with pytest.raises(ValueError, match="n_clusters=1 must be at least 2"):
+        vote_confidence(features, 1)
+    features[2] = 0
+    with pytest.raises(ValueError, match="all-zero rows"):
+        vote_confidence(features, 2)
+
+
+def test_confidence_keeps_clean_knn_cut_over_uncertain_votes():
+    """Runs that each cut the points their own way, leaning to a merged
+    labelling: its vote cut is a little lower than the truth's. Added as is,
+    this outweighs the kNN graph's clean separation of the truth; weighted by
+    the vote graph's (low) confidence it does not."""
+    unit, y = three_hyperplanes()
+    merged = merged_labels(y)
+    rng = np.random.RandomState(0)
+    # each run keeps the merged label of half the points, the rest at random
+    runs = np.where(
+        rng.rand(y.size, 100) < 0.5, rng.randint(3, size=(y.size, 100)), merged[:, None]
+    )
+    features = vote_features(runs, 3)
+    vote_cuts = np.array([vote_cut(features, c, 3) for c in (merged, y)])
+    confidence = vote_confidence(features, 3)
+    assert confidence < 0.3
+    # a graph joining the points of the true groups and, less, those of the
+    # merged labelling: it prefers the truth
+    same = [(c[:, None] == c[None, :]).astype(float) for c in (y, merged)]
+    graph = sp.csr_matrix(same[0] + 0.8 * same[1])
+    common = dict(
+        graph=graph,
+        subspace_dim=4,
+        subspace_dim_tol=0.05,
+        fit_gate=np.inf,
+        vote_cuts=vote_cuts,
+    )
+    _, cuts, _ = select_candidate(unit, [merged, y], 3, **common)
+    # the merged labelling wins on the votes by more than it loses on the graph
+    assert (
+        vote_cuts[1] - vote_cuts[0]
+        > cuts[0] - cuts[1]
+        > confidence * (vote_cuts[1] - vote_cuts[0])
+    )
+    assert select_candidate(unit, [merged, y], 3, vote_weight=1.0, **common)[0] == 0
+    assert (
+        select_candidate(unit, [merged, y], 3, vote_weight=confidence, **common)[0] == 1
+    )
+
+
+@pytest.mark.parametrize("weight", [-0.1, 1.5, np.nan, np.inf])
+def test_vote_weight_validated(weight):
+    unit, y = three_hyperplanes(n_per=10)
+    graph = sp.csr_matrix((y[:, None] == y[None, :]).astype(float))
+    with pytest.raises(ValueError, match=r"vote_weight=.* must be a number in"):
+        select_candidate(
+            unit,
+            [y, y],
+            3,
+            graph=graph,
+            subspace_dim=4,
+            subspace_dim_tol=0.05,
+            vote_cuts=[0.1, 0.2],
+            vote_weight=weight,
+        )
+
+
+def test_occluded_sequence_kept_by_the_knn_cut(hopkins155_dir):
+    """Hopkins155 2T3RCRTP_g13 with 30 % occlusion (bench_occlusion.py's
+    mask): no voting run finds the small motion, and the runs split the large
+    one each their own way (confidence ~0.39). The equal-weight vote cut keeps
+    a candidate with 27 % error; weighted by the confidence, the kNN cut's
+    clean separation of the truth wins."""
+    sequence = load_hopkins155(hopkins155_dir, sequences="2T3RCRTP_g13")[0]
+    X = make_missing(sequence.X, 0.3, random_state=0)
+    Z = PowerFactorization(random_state=0).fit_transform(X)
+    errors = {}
+    for weighting in ("equal", "confidence"):
+        clustering = GPCAClustering(2, vote_weighting=weighting, random_state=0)
+        clustering.fit(Z)
+        errors[weighting] = misclassification_rate(sequence.y, clustering.labels_)
+    assert clustering.vote_confidence_ < 0.5
+    assert errors["confidence"] < 0.01 < 0.2 < errors["equal"]
+
+
+@pytest.mark.parametrize("weighting", ["votes", 1.0, None])
+def test_vote_weighting_validated(weighting):
+    X = np.random.RandomState(0).randn(40, 3)
+    with pytest.raises(ValueError, match="vote_weighting"):
+        GPCAClustering(2, vote_weighting=weighting).fit(X)

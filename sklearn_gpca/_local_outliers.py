@@ -1,0 +1,184 @@
+"""Tracks that disagree with their neighbours: a label-free outlier test.
+
+A track of a rigid motion moves like the tracks near it that move alike: on a
+short window of frames, the tracks of a small neighbourhood of one rigid body
+lie close to a linear subspace of low dimension (4 for an affine camera; a
+perspective camera bends them less over a small patch and a few frames than
+over the whole scene). A track that follows no motion -- a random walk, or a
+tracker's drift or jump from one motion to another in that window -- does
+not fit the subspace of its neighbours.
+
+For each window of ``WINDOW`` frames (every ``WINDOW // 2`` frames) and each
+track ``p`` that observes ``n_p`` coordinates there:
+
+1. its neighbours are the ``N_NEIGHBORS`` tracks that observe every
+   coordinate ``p`` observes in the window and whose displacements from
+   ``p``'s first frame there are nearest to ``p``'s (plus ``BETA`` times the
+   squared offset between the two tracks at that frame): tracks that *move*
+   alike, so that a neighbourhood rarely mixes two motions;
+2. the subspace ``V`` of dimension ``d_p = min(DIM, n_p - 2)`` best fitting
+   the neighbours on ``p``'s coordinates (SVD), their residual energy ``E``
+   giving the local noise ``sigma^2 = E / ((N - d_p)(n_p - d_p))`` (the
+   neighbours' own spread, on the same coordinates and geometry);
+3. ``p``'s residual ``r`` to ``V``: under Gaussian noise, ``r / ((n_p -
+   d_p) sigma^2)`` follows ``F(n_p - d_p, (N - d_p)(n_p - d_p))``. The
+   statistic of every track of the window is divided by the median, over
+   the window's tracks, of its ratio to that law's median (a robust
+   calibration: a fit out of sample misfits a little more than in sample,
+   and most tracks are inliers).
+
+The p-value of a track is the smallest over its windows times the number of
+windows it is tested in (Bonferroni), so that a track whose residuals are
+noise is flagged with probability at most the threshold. A track observing
+fewer than 6 coordinates in every window (seen in 2 frames or fewer there),
+or without ``DIM + 3`` tracks covering it, is not tested (p-value 1).
+
+Settings (``WINDOW``, ``DIM``, ``N_NEIGHBORS``, ``BETA``) were chosen on
+``make_tracks`` draws with 10 % outliers (handheld, driving and lab, seeds
+0-2, ``benchmarks/bench_outliers.py``'s settings), by precision and recall
+at a false-alarm probability of 1e-3; see ``benchmarks/results/outliers.md``.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+from scipy import stats
+
+from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._outliers import frame_windows
+
+#: Frames per window of the local test.
+WINDOW = 10
+#: Largest dimension of a neighbourhood's subspace.
+DIM = 5
+#: Neighbours per track.
+N_NEIGHBORS = 24
+#: Weight of the offset between two tracks in the neighbour distance (against
+#: the sum over frames of their displacements' differences).
+BETA = 0.1
+#: Fewest tracks tested in a window for its calibration.
+MIN_TESTED = 10
+# log-p-values are floored here: the F law's logsf underflows far in the tail.
+_LOG_FLOOR = -700.0
+# Query rows per chunk (chunk x n_samples floats per array).
+_CHUNK = 512
+
+
+def _neighbours(x, m, rows, n_neighbors, beta, pool):
+    """Nearest tracks in motion of ``rows`` among the ``pool`` tracks covering them.
+
+    Returns ``(neighbors, valid)`` of shape (n_rows, n_neighbors).
+    """
+    n = x.shape[0]
+    mr, xr = m[rows], x[rows]
+    index = np.arange(rows.start, rows.stop)
+    cover = ((mr @ (1.0 - m).T) == 0) & pool
+    cover[index - rows.start, index] = False
+    # sum_t ||e_t - o||^2 + beta ||o||^2 with e_t = x_p(t) - x_q(t) and
+    # o = e_{t0} at p's first observed frame t0 (q covers p: q is seen there)
+    sq = (mr * xr * xr).sum(axis=1)[:, None] + mr @ (x * x).T - 2.0 * (mr * xr) @ x.T
+    first = np.argmax(mr[:, ::2] > 0, axis=1)
+    local = np.arange(xr.shape[0])
+    ox = xr[local, 2 * first][:, None] - x[:, 2 * first].T
+    oy = xr[local, 2 * first + 1][:, None] - x[:, 2 * first + 1].T
+    sx = (mr[:, ::2] * xr[:, ::2]).sum(axis=1)[:, None] - mr[:, ::2] @ x[:, ::2].T
+    sy = (mr[:, 1::2] * xr[:, 1::2]).sum(axis=1)[:, None] - mr[:, 1::2] @ x[:, 1::2].T
+    n_t = mr[:, ::2].sum(axis=1)[:, None]
+    offset = ox**2 + oy**2
+    distance = sq - 2.0 * (ox * sx + oy * sy) + (n_t + beta) * offset
+    distance = np.where(cover, distance, np.inf)
+    k = min(n_neighbors, n - 1)
+    nearest = np.argpartition(distance, k - 1, axis=1)[:, :k]
+    valid = np.isfinite(np.take_along_axis(distance, nearest, axis=1))
+    return nearest, valid
+
+
+def _window_statistics(x, m, rows, dim, n_neighbors, beta, pool):
+    """F statistic, its degrees of freedom and testability of ``rows``."""
+    counts = m[rows].sum(axis=1).astype(np.intp)
+    nearest, valid = _neighbours(x, m, rows, n_neighbors, beta, pool)
+    n_valid = valid.sum(axis=1)
+    dims = np.minimum(dim, counts - 2)
+    tested = (counts >= 6) & (n_valid >= dims + 3)
+    stacked = x[nearest] * m[rows][:, None, :] * valid[:, :, None]
+    _, values, vt = np.linalg.svd(stacked, full_matrices=False)
+    width = min(dim, vt.shape[1])
+    keep = np.arange(width) < dims[:, None]
+    basis = vt[:, :width] * keep[:, :, None]
+    xr = x[rows]
+    projection = np.einsum("rkd,rd->rk", basis, xr)
+    residual = np.maximum((xr * xr).sum(axis=1) - (projection**2).sum(axis=1), 0.0)
+    beyond = np.arange(values.shape[1]) >= dims[:, None]
+    energy = np.sum(np.where(beyond, values**2, 0.0), axis=1)
+    dof1 = np.maximum(counts - dims, 1)
+    dof2 = np.maximum((n_valid - dims) * (counts - dims), 1)
+    sigma2 = np.maximum(energy / dof2, np.finfo(np.float64).tiny)
+    return residual / (dof1 * sigma2), dof1, dof2, tested
+
+
+def local_outlier_pvalues(
+    X0,
+    mask,
+    *,
+    exclude=None,
+    window=WINDOW,
+    dim=DIM,
+    n_neighbors=N_NEIGHBORS,
+    beta=BETA,
+):
+    """Probability that each track fits its neighbours as well as noise would.
+
+    Parameters
+    ----------
+    X0 : ndarray of shape (n_samples, 2 * n_frames)
+        Tracks, zero where missing.
+    mask : ndarray of shape (n_samples, 2 * n_frames), dtype=bool
+        Observed entries.
+    exclude : ndarray of shape (n_samples,), dtype=bool, default=None
+        Tracks that serve as no one's neighbour (they are still tested).
+        ``segment_motions`` excludes none: a second pass without the tracks
+        flagged by a first one flags more of the outliers that are each
+        other's neighbours, but also, under strong perspective, the near
+        background tracks whose like-moving neighbours were flagged (on the
+        driving draws of ``benchmarks/bench_outliers.py``, seeds 0-2,
+        precision 0.62 -> 0.41).
+    window : int, default=WINDOW
+        Frames per window.
+    dim : int, default=DIM
+        Largest dimension of a neighbourhood's subspace.
+    n_neighbors : int, default=N_NEIGHBORS
+        Neighbours per track.
+    beta : float, default=BETA
+        Weight of the offset between two tracks in the neighbour distance.
+
+    Returns
+    -------
+    pvalues : ndarray of shape (n_samples,)
+        Bonferroni-corrected p-value in ``[0, 1]`` (see module doc); 1 for a
+        track that cannot be tested.
+    """
+    n_samples, n_features = X0.shape
+    starts, width = frame_windows(n_features // 2, window)
+    frames = np.arange(n_features) // 2
+    smallest = np.zeros(n_samples)
+    n_tests = np.zeros(n_samples)
+    pool = np.ones(n_samples, dtype=bool) if exclude is None else ~exclude
+    if np.count_nonzero(pool) < dim + 4:
+        return np.ones(n_samples)
+    for start in starts:
+        cols = (frames >= start) & (frames < start + width)
+        x, m = X0[:, cols], mask[:, cols].astype(np.float64)
+        parts = [
+            _window_statistics(x, m, rows, dim, n_neighbors, beta, pool)
+            for rows in row_chunks(n_samples, _CHUNK)
+        ]
+        stat, dof1, dof2, tested = (np.concatenate(p) for p in zip(*parts, strict=True))
+        if tested.sum() < MIN_TESTED:
+            continue
+        ratio = np.median(stat[tested] / stats.f.median(dof1[tested], dof2[tested]))
+        stat = stat / max(ratio, np.finfo(np.float64).tiny)
+        log_p = np.maximum(stats.f.logsf(stat, dof1, dof2), _LOG_FLOOR)
+        smallest = np.where(tested, np.minimum(smallest, log_p), smallest)
+        n_tests += tested
+    log_bonferroni = smallest + np.log(np.maximum(n_tests, 1))
+    return np.minimum(np.exp(log_bonferroni), 1.0)
