@@ -42,6 +42,10 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     selection : {"separability", "coding_length"}, default="separability"
         How the refined candidate is kept (see :func:`segment_motions`).
 
+    merge_split : bool, default=False
+        Try merge/split moves on the kept segmentation (see
+        :func:`segment_motions`).
+
     subspace_dim : int, default=4
         Dimension of the motion subspaces.
 
@@ -115,6 +119,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         "n_clusters": [Count(1, None, closed="left")],
         "init": [StrOptions({"auto", "all", "fragments", "gpca", "votes"})],
         "selection": [StrOptions({"coding_length", "separability"})],
+        "merge_split": ["boolean"],
         "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
         "n_neighbors": [Count(1, None, closed="left")],
@@ -130,6 +135,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         *,
         init="all",
         selection="separability",
+        merge_split=False,
         subspace_dim=4,
         smoothing=3.0,
         n_neighbors=10,
@@ -141,6 +147,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.n_clusters = n_clusters
         self.init = init
         self.selection = selection
+        self.merge_split = merge_split
         self.subspace_dim = subspace_dim
         self.smoothing = smoothing
         self.n_neighbors = n_neighbors
@@ -179,6 +186,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             self.n_clusters,
             init=self.init,
             selection=self.selection,
+            merge_split=self.merge_split,
             subspace_dim=self.subspace_dim,
             smoothing=self.smoothing,
             n_neighbors=self.n_neighbors,
