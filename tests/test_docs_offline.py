@@ -142,3 +142,27 @@ def test_inherited_docstrings_lose_sklearn_version_notes_and_guide_links():
         assert "sphx_glr" not in text
         assert "Inherited from scikit-learn" in text
         assert "Parameters\n----------" in text
+
+
+CONFLICT_MARKER = re.compile(r"^(<{7}|>{7})( |$)", re.MULTILINE)
+
+
+def test_conflict_marker_pattern():
+    assert CONFLICT_MARKER.search("text\n<<<<<<< HEAD\nmore")
+    assert CONFLICT_MARKER.search(">>>>>>> main\n")
+    assert not CONFLICT_MARKER.search("a <<<<<<< b\n========\n")
+
+
+def test_no_merge_conflict_markers_left():
+    """A merge conflict left in a page or a table must not ship."""
+    suffixes = {".md", ".rst", ".py", ".toml", ".csv", ".txt"}
+    dirs = [DOCS, ROOT / "benchmarks", ROOT / "sklearn_gpca", ROOT / "tests"]
+    paths = [ROOT / "README.md"]
+    paths += [p for d in dirs for p in d.rglob("*") if p.suffix in suffixes]
+    left = [
+        str(p.relative_to(ROOT))
+        for p in paths
+        if "_build" not in p.parts
+        and CONFLICT_MARKER.search(p.read_text(encoding="utf-8", errors="replace"))
+    ]
+    assert left == []
