@@ -132,7 +132,7 @@ def ambiguous_fraction(X0, mask, labels, noise, *, subspace_dim=4, ratio=2.0):
     return float(np.mean(ambiguous))
 
 
-def select_segmentation(coding_lengths, ambiguity, *, selection, tolerance=0.02):
+def select_segmentation(coding_lengths, ambiguity, *, selection, tolerance):
     """Index of the segmentation kept among refined candidates.
 
     Parameters
@@ -148,8 +148,9 @@ def select_segmentation(coding_lengths, ambiguity, *, selection, tolerance=0.02)
         ``"coding_length"``: the shortest coding length. ``"separability"``:
         the shortest coding length among the candidates whose ambiguous
         fraction is within ``tolerance`` of the smallest.
-    tolerance : float, default=0.02
-        Slack on the ambiguous fraction (a share of the tracks).
+    tolerance : float
+        Slack on the ambiguous fraction (a share of the tracks);
+        ``segment_motions`` passes ``AMBIGUITY_TOLERANCE``.
 
     Returns
     -------
