@@ -117,21 +117,18 @@ def thread_limit_rows(sequences, masked, every):
     ]
 
 
-def mask_seed_rows(sequences, solvers, fraction, n_seeds):
-    """Mean error (%) of each solver on each occlusion draw, and overall."""
+def mask_seed_rows(sequences, summaries, fraction, n_seeds):
+    """Mean error (%) of each solver on each occlusion draw, and overall; draw
+    0 is the table's (``summaries``), the others are fitted here."""
     rows = []
-    for solver in solvers:
-        means = [
-            np.mean(
-                [
-                    pipeline_fit(
-                        s, make_missing(s.X, fraction, random_state=seed), solver
-                    )[0]
-                    for s in sequences
-                ]
-            )
-            for seed in range(n_seeds)
-        ]
+    for solver, summary in summaries.items():
+        means = [summary["mean_error"]]
+        for seed in range(1, n_seeds):
+            errors = [
+                pipeline_fit(s, make_missing(s.X, fraction, random_state=seed), solver)
+                for s in sequences
+            ]
+            means.append(np.mean([error for error, _, _ in errors]))
         name = "default (varpro)" if solver == "varpro" else solver
         rows.append([name, *(f"{m:.2f}" for m in means), f"{np.mean(means):.2f}"])
     return rows
@@ -196,7 +193,7 @@ def main():
             ]
         )
     limits = thread_limit_rows(sequences, masked, args.limit_every)
-    seeds = mask_seed_rows(sequences, args.solvers, args.missing, args.mask_seeds)
+    seeds = mask_seed_rows(sequences, summaries, args.missing, args.mask_seeds)
     command = "python benchmarks/bench_occlusion.py " + " ".join(sys.argv[1:])
     lines = [
         "# Hopkins155 two-motion sequences under occlusion",
