@@ -34,7 +34,8 @@ def main():
         type=float,
         nargs="*",
         default=list(MISSING_FRACTIONS),
-        help="occlusion fractions for the two-motion sequences ('' to skip)",
+        help="occlusion fractions for the two-motion sequences "
+        "(the flag alone, with no fraction, skips them)",
     )
     parser.add_argument(
         "--no-imputers",
