@@ -13,6 +13,7 @@ from sklearn_gpca._observed_subspaces import (
     subspace_residuals,
 )
 from sklearn_gpca._refine_observed import refine_observed, refinement_objective
+from sklearn_gpca._segment import segment_motions, track_graph
 from sklearn_gpca._track_neighbors import track_neighbors
 from sklearn_gpca.datasets import make_motions
 
@@ -112,3 +113,23 @@ def test_objective_matches_definition():
     expected = np.sum(m * (rho / scales[y] + np.log(scales[y]))) / np.median(m)
     got = refinement_objective(X0, mask, y, 3, smoothing=0.0, **graph)
     assert_allclose(got, expected, rtol=1e-6)
+
+
+def test_segment_motions_reports_the_objective_of_each_candidate():
+    X, y = make_motions(2, n_points=[60, 40], n_frames=8, missing=0.2, random_state=3)
+    labels, info = segment_motions(X, 2, init=y, random_state=0, return_info=True)
+    X0, mask = observed_entries(X)
+    X0 = X0 / info.scale
+    neighbors, _, _, weights = track_graph(
+        X0, mask, 10, random_state=np.random.RandomState(0)
+    )
+    expected = refinement_objective(
+        X0,
+        mask,
+        labels,
+        2,
+        neighbors=neighbors[:, : weights.shape[1]],
+        neighbor_weights=weights,
+    )
+    assert info.objectives.shape == (1,)
+    assert_allclose(info.objectives[0], expected)
