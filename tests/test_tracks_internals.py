@@ -1,0 +1,328 @@
+"""make_tracks' internals against hand-computed values: the camera, the
+projection, the calibration of the lifetimes, the failure messages, and what
+``info`` says about each track.
+
+Small hand-built scenes (a camera at the world origin looking along z, boxes
+at known depths) give every expected number by hand; draws of ``make_tracks``
+are checked against relations that hold exactly for every track.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import re
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose, assert_array_equal
+from sklearn.utils import Bunch
+
+from sklearn_gpca.datasets import _track_draw, make_tracks
+from sklearn_gpca.datasets._track_draw import _typical_step
+from sklearn_gpca.datasets._track_geometry import (
+    UnseenMotionError,
+    make_camera,
+    make_occluders,
+    sample_points,
+    track_geometry,
+)
+from sklearn_gpca.datasets._track_lifetimes import calibrate_lifetime, track_lengths
+
+
+def _still_scene(object_centres, n_frames=2):
+    """A camera at the origin looking along z in every frame, unit boxes with
+    the given centres (n_objects, n_frames, 3), never turning."""
+    object_centres = np.asarray(object_centres, dtype=float).reshape(-1, n_frames, 3)
+    n_objects = object_centres.shape[0]
+    return Bunch(
+        camera_rotations=np.broadcast_to(np.eye(3), (n_frames, 3, 3)).copy(),
+        camera_centres=np.zeros((n_frames, 3)),
+        object_sizes=np.ones((n_objects, 3)),
+        object_rotations=np.broadcast_to(np.eye(3), (n_objects, n_frames, 3, 3)).copy(),
+        object_centres=object_centres,
+        ground_height=None,
+        walls=None,
+    )
+
+
+# two boxes straight ahead: 5 then 6 m away, and 1 m right at 10 then 12 m
+SCENE = _still_scene([[[0, 0, 5], [0, 0, 6]], [[1, 0, 10], [1, 0, 12]]])
+
+
+def test_camera_near_plane_principal_point_and_reference_depths():
+    """Points nearer than ``depth_range[0] / 4`` are lost (make_tracks'
+    docstring), the principal point is the image centre, and the affine
+    camera scales each object by its centre's depth in each frame, the
+    background by the geometric mean of ``depth_range``."""
+    camera = make_camera("affine", 100.0, (200, 100), (4.0, 16.0), SCENE)
+    assert camera.near == 1.0
+    assert_array_equal(camera.centre, [100.0, 50.0])
+    assert_allclose(camera.zref, [[8.0, 8.0], [5.0, 6.0], [10.0, 12.0]])
+
+
+def test_perspective_projection_and_the_near_plane():
+    """A background point (x, y, z) seen from the origin projects to
+    ``f (x, y) / z + centre``; it is in view only in front of the near plane
+    (``depth_range[0] / 4`` = 1 m) and inside the image."""
+    camera = make_camera("perspective", 100.0, (200, 100), (4.0, 16.0), SCENE)
+    points = np.array([[1.0, 0.5, 5.0], [0.0, 0.0, 0.9], [0.0, 0.0, 1.1]])
+    geometry = track_geometry(points, None, 0, [], camera, SCENE)
+    assert_allclose(geometry.pixels[0], [[120.0, 60.0], [120.0, 60.0]])
+    assert np.all(np.isnan(geometry.pixels[1]))
+    assert_allclose(geometry.pixels[2], [[100.0, 50.0], [100.0, 50.0]])
+    assert_array_equal(geometry.in_view, [[True, True], [False, False], [True, True]])
+
+
+def test_affine_silhouette_is_the_box_scaled_by_its_own_depth():
+    """Under the affine camera the first box (1 m wide, centre 5 m away in
+    frame 0) projects with the scale 100 / 5: a 20-pixel square about the
+    image centre. Its silhouette covers (109, 50), not (111, 50)."""
+    camera = make_camera("affine", 100.0, (200, 100), (4.0, 16.0), SCENE)
+    occluders = make_occluders(SCENE, camera)
+    equations, depth = occluders[0][0]
+    assert depth == 5.0
+    sides = np.array([[109.0, 50.0], [111.0, 50.0], [91.0, 41.0]])
+    inside = np.all(sides @ equations[:, :2].T + equations[:, 2] <= 1e-9, axis=1)
+    assert_array_equal(inside, [True, False, True])
+
+
+@pytest.mark.parametrize(
+    ("complete", "where"),
+    [
+        (
+            True,
+            r"in every frame: .* \(complete tracks, missing=0, suit scene='lab'\)\.",
+        ),
+        (False, r"at the frames it is in view: .* another random_state\."),
+    ],
+)
+def test_a_motion_never_seen_is_named(complete, where):
+    """A box behind the camera has no visible point: the strict sampler names
+    the motion, the number of points, and what to change; the lenient one
+    marks the points as not found."""
+    scene = _still_scene([[[0, 0, -5], [0, 0, -5]]])
+    camera = make_camera("perspective", 100.0, (200, 100), (4.0, 16.0), scene)
+    occluders = make_occluders(scene, camera)
+    births = np.zeros(3, dtype=np.int64)
+    rng = np.random.RandomState(0)
+    message = "^Motion 1 could not be given 3 visible points " + where + "$"
+    with pytest.raises(UnseenMotionError, match=message) as error:
+        sample_points(1, births, complete, occluders, camera, scene, (4, 16), rng)
+    assert "too little of it is seen. Use fewer frames" in str(error.value)
+    lenient = sample_points(
+        1, births, complete, occluders, camera, scene, (4, 16), rng, strict=False
+    )
+    assert_array_equal(lenient.found, [False, False, False])
+
+
+@pytest.mark.parametrize(
+    ("scene", "kwargs", "reason"),
+    [
+        ("lab", {}, "object 1 is almost never seen throughout."),
+        ("handheld", {"missing": 0.3}, "object 1 is almost never in view."),
+    ],
+)
+def test_scene_whose_object_is_never_seen_is_refused_after_20_draws(
+    monkeypatch, scene, kwargs, reason
+):
+    """Where an object shows (almost) none of its surface, the scene is drawn
+    again, 20 times, then refused with the last reason."""
+    calls = []
+
+    def nothing_visible(motion, occluders, camera, world, rng, n_probes=256):
+        calls.append(motion)
+        return np.zeros(world.camera_rotations.shape[0]), 0.0
+
+    monkeypatch.setattr(_track_draw, "visible_share", nothing_visible)
+    message = (
+        f"No draw of the '{scene}' scene in 20 attempts showed every motion "
+        f"enough: {reason}"
+    )
+    with pytest.raises(ValueError, match="^" + re.escape(message) + "$"):
+        make_tracks(2, scene=scene, n_tracks=20, n_frames=4, random_state=0, **kwargs)
+    assert len(calls) >= 20
+
+
+def test_typical_step_is_the_median_step_between_consecutive_visible_frames():
+    """Steps count only between two consecutive frames where the track is
+    visible: the first track's one 3-pixel step (frames 0-1) and the
+    second's two 2-pixel steps (frames 1-3; it is hidden in frame 0)."""
+    x = np.array([[0.0, 3.0, 50.0, 90.0], [7.0, 100.0, 102.0, 104.0]])
+    pixels = np.stack([x, np.zeros_like(x)], axis=-1)
+    visible = np.array([[True, True, False, False], [False, True, True, True]])
+    assert _typical_step(pixels, visible) == 2.0
+    # a slow scene: 0.8 pixel a frame
+    assert _typical_step(pixels * 0.4, visible) == pytest.approx(0.8)
+    # a still scene: the random walks still move, half a pixel a frame
+    assert _typical_step(pixels * 0.0, visible) == 0.5
+
+
+def test_typical_step_without_two_consecutive_visible_frames_is_one_pixel():
+    pixels = np.zeros((2, 3, 2))
+    visible = np.array([[True, False, True], [False, True, False]])
+    assert _typical_step(pixels, visible) == 1.0
+
+
+# One track seen in at most 10 frames, u = 0.5: its length is
+# 1 + floor(log 0.5 / log(1 - 1/m)) frames (at most 10), so the missing
+# fractions it can give are 0, 0.1, ..., 0.9.
+ONE_TRACK = (np.array([0.5]), np.array([1]), np.array([10]), 10)
+
+
+def _missing_at(mean, uniform, min_length, max_length, n_frames):
+    lengths = track_lengths(uniform, mean, min_length, max_length)
+    return 1 - lengths.sum() / (uniform.size * n_frames)
+
+
+@pytest.mark.parametrize(
+    ("missing", "reached"), [(0.52, 0.5), (0.58, 0.6), (0.12, 0.1), (0.88, 0.9)]
+)
+def test_calibrated_lifetime_gives_the_nearest_reachable_missing_fraction(
+    missing, reached
+):
+    """Of the missing fractions one track can give, the calibrated mean
+    lifetime gives the one nearest the target (from either side; 0.9 needs a
+    mean below 2, the track then living one frame)."""
+    mean = calibrate_lifetime(*ONE_TRACK, missing)
+    assert _missing_at(mean, *ONE_TRACK) == pytest.approx(reached)
+
+
+def test_calibration_accepts_targets_within_half_a_percent_of_its_limits():
+    """Targets up to 0.005 beyond the floor (every track seen until it leaves
+    the view) or the ceiling (every track living one frame) are accepted and
+    give the limit; further is refused, with the limit in the message."""
+    uniform, min_length = np.full(10, 0.5), np.ones(10, dtype=np.int64)
+    max_length = np.full(10, 9)  # floor: 1 - 90 / 100 = 0.1
+    mean = calibrate_lifetime(uniform, min_length, max_length, 10, 0.096)
+    assert _missing_at(mean, uniform, min_length, max_length, 10) == pytest.approx(0.1)
+    with pytest.raises(
+        ValueError, match=r"^missing=0.094 cannot be reached: .* 0\.100"
+    ):
+        calibrate_lifetime(uniform, min_length, max_length, 10, 0.094)
+    mean = calibrate_lifetime(*ONE_TRACK, 0.904)  # ceiling: 0.9
+    assert _missing_at(mean, *ONE_TRACK) == pytest.approx(0.9)
+    message = (
+        r"^missing=0.95 cannot be reached: tracks living a single frame \(their "
+        r"shortest\) miss only 0\.900 of the entries\.$"
+    )
+    with pytest.raises(ValueError, match=message):
+        calibrate_lifetime(*ONE_TRACK, 0.95)
+
+
+@pytest.fixture(scope="module")
+def driving_draw():
+    """A driving draw in pixels, with every outlier kind."""
+    return make_tracks(
+        scene="driving",
+        n_tracks=200,
+        n_frames=15,
+        outlier_fraction=0.2,
+        units="pixels",
+        noise=0.0,
+        random_state=3,
+        return_info=True,
+    )
+
+
+def test_switch_frame_and_sources_are_minus_one_except_for_switching_outliers(
+    driving_draw,
+):
+    """``switch_frame`` and ``source_motions`` are -1 for inliers and random
+    walks (docstring: "-1 otherwise"); a drift or jump outlier switches inside
+    the sequence between two different motions."""
+    _X, y, info = driving_draw
+    F = info.params["n_frames"]
+    switching = np.isin(info.kind, ["drift", "jump"])
+    assert np.sum(info.kind == "random_walk") > 0 and np.sum(y >= 0) > 0
+    assert np.all(info.switch_frame[~switching] == -1)
+    assert np.all(info.source_motions[~switching] == -1)
+    assert np.all(
+        (info.switch_frame[switching] >= 0) & (info.switch_frame[switching] < F)
+    )
+    first, second = info.source_motions[switching].T
+    assert np.all(first != second)
+
+
+@pytest.mark.parametrize(("scene", "seed"), [("driving", 0), ("handheld", 2)])
+def test_end_reasons_say_why_each_track_ends(scene, seed):
+    """A track ends with its lifetime, or where it leaves the view (its pixel
+    outside the image, or no pixel: behind the camera), or where it is hidden
+    (its pixel inside the image), or with the sequence."""
+    _X, y, info = make_tracks(
+        scene=scene,
+        n_tracks=300,
+        n_frames=15,
+        mean_lifetime=12.0,
+        units="pixels",
+        noise=0.0,
+        random_state=seed,
+        return_info=True,
+    )
+    F = info.params["n_frames"]
+    width, height = info.image_size
+    reason, end, length = info.end_reason, info.end, info.end - info.birth
+    assert_array_equal(reason == "sequence_end", end == F)
+    inlier = y >= 0
+    # inliers (shortest length 1) that lived their lifetime
+    assert_array_equal(
+        length[inlier & (reason == "lifetime")],
+        info.lifetime[inlier & (reason == "lifetime")],
+    )
+    lost = np.isin(reason, ["left_view", "occluded"])
+    assert np.all(length[lost] <= info.lifetime[lost])
+    rows = np.flatnonzero(lost)
+    xy = info.X_complete.reshape(len(y), F, 2)[rows, end[rows]]
+    with np.errstate(invalid="ignore"):
+        inside = (
+            (xy[:, 0] >= 0) & (xy[:, 0] < width) & (xy[:, 1] >= 0) & (xy[:, 1] < height)
+        )
+    assert_array_equal(reason[rows] == "occluded", inside)
+    assert np.sum(reason == "left_view") > 5 and np.sum(reason == "occluded") > 0
+
+
+def _pinhole(info, y):
+    """Pixels (P, F, 2) of each inlier's point through the pinhole camera of
+    ``info``: NaN at or behind the near plane."""
+    F = info.params["n_frames"]
+    Rc, C = info.camera_rotations, info.camera_centres
+    pixels = np.full((len(y), F, 2), np.nan)
+    for k in range(info.params["n_motions"]):
+        rows = y == k
+        points = info.points[rows]
+        if k == 0:
+            world = np.broadcast_to(points[:, None], (len(points), F, 3))
+        else:
+            Ro, To = info.object_rotations[k - 1], info.object_centres[k - 1]
+            world = np.einsum("fij,nj->nfi", Ro, points) + To
+        cam = np.einsum("fji,nfj->nfi", Rc, world - C)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            uv = info.focal_length * cam[..., :2] / cam[..., 2:]
+        uv[cam[..., 2] <= info.params["depth_range"][0] / 4] = np.nan
+        pixels[rows] = uv + np.asarray(info.image_size) / 2
+    return pixels
+
+
+@pytest.mark.parametrize(
+    ("scene", "kwargs"),
+    [
+        ("lab", {}),  # complete tracks
+        ("driving", {}),  # a mean lifetime
+        ("handheld", {"missing": 0.5}),  # a missing target
+        ("driving", {"missing": 0.5, "random_state": 1}),  # q raised to 1
+    ],
+)
+def test_perspective_tracks_are_the_pinhole_projections_of_their_points(scene, kwargs):
+    """``X_complete`` of every inlier is the pinhole projection of its 3-D
+    point, moved by its motion and seen from the camera's pose, whatever the
+    route the draw took (complete tracks, a lifetime, a missing target)."""
+    kwargs = {"n_tracks": 120, "n_frames": 20, "random_state": 0, **kwargs}
+    _X, y, info = make_tracks(
+        scene=scene, units="pixels", noise=0.0, return_info=True, **kwargs
+    )
+    inlier = y >= 0
+    F = info.params["n_frames"]
+    expected = _pinhole(info, y)[inlier]
+    got = info.X_complete[inlier].reshape(-1, F, 2)
+    assert_array_equal(np.isnan(got), np.isnan(expected))
+    assert_allclose(got, expected, rtol=1e-9, atol=1e-6)
+    if kwargs.get("random_state") == 1:
+        assert info.first_frame_share == 1.0
