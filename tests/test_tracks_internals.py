@@ -10,6 +10,7 @@ are checked against relations that hold exactly for every track.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -326,3 +327,188 @@ def test_perspective_tracks_are_the_pinhole_projections_of_their_points(scene, k
     assert_allclose(got, expected, rtol=1e-9, atol=1e-6)
     if kwargs.get("random_state") == 1:
         assert info.first_frame_share == 1.0
+
+
+def _switching_outliers(info):
+    return np.isin(info.kind, ["drift", "jump"])
+
+
+@pytest.mark.parametrize(("n_frames", "switching"), [(4, False), (5, True)])
+def test_drift_and_jump_outliers_need_five_frames(n_frames, switching):
+    """Two frames each side of the switch fit in 5 frames (Notes); with fewer
+    every outlier is a random walk."""
+    _X, y, info = make_tracks(
+        scene="driving",
+        n_tracks=100,
+        n_frames=n_frames,
+        outlier_fraction=0.3,
+        random_state=0,
+        return_info=True,
+    )
+    assert np.any(_switching_outliers(info)) == switching
+    assert np.sum(y == -1) == 30
+
+
+def test_a_lone_outlier_can_drift_or_jump():
+    """One outlier follows the same mix as many: over 8 draws of a single
+    outlier, some drift or jump (all 8 random walks: probability 0.25^8)."""
+    kinds = [
+        make_tracks(
+            scene="driving",
+            n_tracks=10,
+            outlier_fraction=0.1,
+            random_state=seed,
+            return_info=True,
+        )[2].kind
+        for seed in range(8)
+    ]
+    assert any(np.isin(kind, ["drift", "jump"]).any() for kind in kinds)
+
+
+def test_with_one_motion_outliers_switch_between_two_background_points():
+    """With the background alone, a drift or jump outlier switches from one
+    background point to another (its two source motions are both 0), with no
+    warning."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _X, _y, info = make_tracks(
+            1,
+            scene="driving",
+            n_tracks=100,
+            outlier_fraction=0.2,
+            random_state=0,
+            return_info=True,
+        )
+    switching = _switching_outliers(info)
+    assert switching.sum() > 5
+    assert np.all(info.source_motions[switching] == 0)
+
+
+def test_switching_outliers_are_lost_like_any_track():
+    """With endless lifetimes a drift or jump track ends where it leaves the
+    view or with the sequence; driving forward, some leave the view, and the
+    shortest are seen exactly two frames after their switch frame ``s``
+    (frames ``s + 1`` and ``s + 2``: the track ends at ``s + 3``)."""
+    _X, _y, info = make_tracks(
+        scene="driving",
+        n_tracks=300,
+        n_frames=15,
+        mean_lifetime=1e6,
+        outlier_fraction=0.3,
+        random_state=0,
+        return_info=True,
+    )
+    switching = _switching_outliers(info)
+    reasons = info.end_reason[switching]
+    assert set(reasons) <= {"left_view", "occluded", "sequence_end"}
+    assert np.sum(reasons == "left_view") > 5
+    after = info.end[switching] - info.switch_frame[switching]
+    assert after.min() == 3
+
+
+def test_complete_switching_outliers_switch_in_different_frames():
+    """Switch frames are drawn for each outlier: complete tracks (all born in
+    frame 0) switch in several different frames."""
+    _X, _y, info = make_tracks(
+        scene="lab",
+        n_tracks=200,
+        outlier_fraction=0.2,
+        random_state=0,
+        return_info=True,
+    )
+    switching = _switching_outliers(info)
+    assert switching.sum() > 10
+    assert np.all(info.birth[switching] == 0)
+    assert np.unique(info.switch_frame[switching]).size > 5
+
+
+def test_switches_that_cannot_be_placed_become_random_walks():
+    """Driving at 30 m/s filmed at 1 frame a second, tracks leave the view
+    within a frame or two: many switches cannot be seen two frames each
+    side. Those outliers become random walks: seen in at least 3 frames,
+    inside the image, with no switch frame or sources."""
+    X, y, info = make_tracks(
+        scene="driving",
+        n_tracks=100,
+        n_frames=8,
+        outlier_fraction=0.3,
+        mean_lifetime=100.0,
+        frame_rate=1.0,
+        forward_speed=30.0,
+        units="pixels",
+        noise=0.0,
+        random_state=1,
+        return_info=True,
+    )
+    kinds = info.kind[y == -1]
+    assert set(kinds) <= {"drift", "jump", "random_walk"}
+    walks = info.kind == "random_walk"
+    # the documented mix gives a quarter of random walks: here most are
+    assert walks.sum() > 0.5 * kinds.size
+    assert np.all(info.switch_frame[walks] == -1)
+    assert np.all(info.source_motions[walks] == -1)
+    assert np.all(info.end[walks] - info.birth[walks] >= 3)
+    seen = X[walks].reshape(walks.sum(), -1, 2)
+    width, height = info.image_size
+    inside = (seen[..., 0] >= 0) & (seen[..., 0] < width)
+    inside &= (seen[..., 1] >= 0) & (seen[..., 1] < height)
+    assert_array_equal(inside, ~np.isnan(seen[..., 0]))
+
+
+@pytest.mark.parametrize(
+    ("missing", "seed", "shares_tried", "share"),
+    [
+        # q = 1 - missing misses too much, halfway to 1 does not
+        (0.5, 2, [1.0, 0.5, 0.75], 0.75),
+        # the first scene cannot reach 0.4; in the second only q = 1 does
+        (0.4, 5, [1.0, 1.0, 0.6, 0.8], 1.0),
+    ],
+)
+def test_missing_target_raises_q_then_draws_another_scene(
+    monkeypatch, missing, seed, shares_tried, share
+):
+    """Notes: each scene is first drawn with every track born in frame 0
+    (q = 1, the least it can miss); a scene that misses more than the target
+    even so is drawn again; otherwise q = 1 - missing is tried, then halfway
+    to 1, then 1. Driving forward loses tracks fast, so these draws need the
+    later steps; the target is still reached within 0.005."""
+    tried = []
+    draw = _track_draw._draw
+
+    def spy(scene, camera, p, counts, n_outliers, share, complete, rng):
+        tried.append(share)
+        return draw(scene, camera, p, counts, n_outliers, share, complete, rng)
+
+    monkeypatch.setattr(_track_draw, "_draw", spy)
+    X, _y, info = make_tracks(
+        scene="driving",
+        n_tracks=100,
+        n_frames=20,
+        missing=missing,
+        random_state=seed,
+        return_info=True,
+    )
+    assert tried == pytest.approx(shares_tried)
+    assert info.first_frame_share == pytest.approx(share)
+    assert abs(np.isnan(X).mean() - missing) <= 0.005
+
+
+@pytest.mark.parametrize(
+    ("scene", "kwargs", "share"),
+    [
+        ("lab", {}, 1.0),  # complete: every track born in frame 0
+        ("driving", {"mean_lifetime": 40.0}, 40.0 / (40.0 + 19)),  # m / (m + F - 1)
+    ],
+)
+def test_first_frame_share_without_a_missing_target(scene, kwargs, share):
+    """Notes: with a mean lifetime ``m`` a tracker starts ``m / (m + F - 1)``
+    of its tracks in frame 0; complete tracks all."""
+    _X, _y, info = make_tracks(
+        scene=scene,
+        n_tracks=60,
+        n_frames=20,
+        random_state=0,
+        return_info=True,
+        **kwargs,
+    )
+    assert info.first_frame_share == pytest.approx(share)
