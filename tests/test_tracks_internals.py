@@ -455,29 +455,22 @@ def test_switches_that_cannot_be_placed_become_random_walks():
     assert_array_equal(inside, ~np.isnan(seen[..., 0]))
 
 
-@pytest.mark.parametrize(
-    ("missing", "seed", "shares_tried", "share"),
-    [
-        # q = 1 - missing misses too much, halfway to 1 does not
-        (0.5, 2, [1.0, 0.5, 0.75], 0.75),
-        # the first scene cannot reach 0.4; in the second only q = 1 does
-        (0.4, 5, [1.0, 1.0, 0.6, 0.8], 1.0),
-    ],
-)
-def test_missing_target_raises_q_then_draws_another_scene(
-    monkeypatch, missing, seed, shares_tried, share
-):
+@pytest.mark.parametrize(("missing", "seed"), [(0.5, 2), (0.4, 5)])
+def test_missing_target_raises_q_then_draws_another_scene(monkeypatch, missing, seed):
     """Notes: each scene is first drawn with every track born in frame 0
     (q = 1, the least it can miss); a scene that misses more than the target
-    even so is drawn again; otherwise q = 1 - missing is tried, then halfway
-    to 1, then 1. Driving forward loses tracks fast, so these draws need the
-    later steps; the target is still reached within 0.005."""
+    even so is drawn again (up to 5 scenes); otherwise q = 1 - missing is
+    tried, then halfway to 1, and the first that misses at most the target
+    is kept, else q = 1. Every draw's missing fraction with endless lifetimes
+    is recorded and the steps replayed. Driving forward loses tracks fast:
+    the first draw keeps q halfway, the second rejects a scene."""
     tried = []
     draw = _track_draw._draw
 
     def spy(scene, camera, p, counts, n_outliers, share, complete, rng):
-        tried.append(share)
-        return draw(scene, camera, p, counts, n_outliers, share, complete, rng)
+        d = draw(scene, camera, p, counts, n_outliers, share, complete, rng)
+        tried.append((share, _track_draw._missing_floor(d, p["n_frames"])))
+        return d
 
     monkeypatch.setattr(_track_draw, "_draw", spy)
     X, _y, info = make_tracks(
@@ -488,9 +481,26 @@ def test_missing_target_raises_q_then_draws_another_scene(
         random_state=seed,
         return_info=True,
     )
-    assert tried == pytest.approx(shares_tried)
-    assert info.first_frame_share == pytest.approx(share)
+    q = 1 - missing
+    steps, scenes, expected = iter(tried), 0, None
+    for share, floor in steps:
+        assert share == 1.0
+        scenes += 1
+        if floor > missing:
+            continue
+        expected = 1.0
+        for candidate in (q, (1 + q) / 2):
+            share, floor = next(steps)
+            assert share == pytest.approx(candidate)
+            if floor <= missing:
+                expected = candidate
+                break
+        break
+    assert next(steps, None) is None
+    assert scenes <= 5 and expected is not None
+    assert info.first_frame_share == pytest.approx(expected)
     assert abs(np.isnan(X).mean() - missing) <= 0.005
+    assert expected == 0.75 if seed == 2 else scenes >= 2
 
 
 @pytest.mark.parametrize(
