@@ -257,6 +257,38 @@ def test_driving_camera_turns_at_most_0_03_rad_a_frame():
     assert np.mean(np.abs(rates) > 0.03 - 1e-9) > 0.01
 
 
+def test_driving_camera_rides_and_steers_smoothly():
+    """The car drives ``forward_speed / 10`` m a frame with a smooth (AR(1))
+    relative noise of 5 %; its camera bobs 1 cm, pitches 0.003 rad and rolls
+    0.002 rad (smooth noises). Its yaw rate starts uniform within 0.004 rad a
+    frame (either sign), then walks by steps of 5e-4 rad (40 scenes of 30
+    frames: bounds at 4-5 standard deviations)."""
+    forward = SCENES["driving"]["forward_speed"] / SCENES["driving"]["frame_rate"]
+    first_rates, rate_steps, speeds, bobs, pitches, rolls = [], [], [], [], [], []
+    for seed in range(40):
+        world = _draw("driving", 30, 0, seed)
+        angles = Rotation.from_matrix(world.camera_rotations).as_euler("YXZ")
+        rate = np.diff(angles[:, 0])
+        first_rates.append(rate[0])
+        rate_steps.append(np.diff(rate))
+        C = world.camera_centres
+        speeds.append(np.linalg.norm(np.diff(C[:, [0, 2]], axis=0), axis=1))
+        bobs.append(C[:, 1])
+        pitches.append(angles[:, 1])
+        rolls.append(angles[:, 2])
+    first_rates = np.array(first_rates)
+    assert np.all(np.abs(first_rates) < 0.004 + 5 * 5e-4)
+    assert first_rates.max() > 0.002 and first_rates.min() < -0.002
+    assert abs(first_rates.mean()) < 0.0013
+    assert np.concatenate(rate_steps).std() == pytest.approx(5e-4, rel=0.1)
+    relative = np.concatenate(speeds) / forward - 1
+    assert abs(relative.mean()) < 0.02
+    assert 0.035 < relative.std() < 0.065
+    assert 0.0075 < np.concatenate(bobs).std() < 0.0125
+    assert 0.0022 < np.concatenate(pitches).std() < 0.0038
+    assert 0.0015 < np.concatenate(rolls).std() < 0.0025
+
+
 @pytest.mark.parametrize("axis", [0, 1])
 def test_in_view_at_start_keeps_a_tenth_of_the_image_as_margin(axis):
     """A camera-frame point is in view at the start when it is in front of the
