@@ -244,6 +244,26 @@ def test_driving_cars_ahead_drift_slowly_relative_to_the_ego_car(driving_worlds)
     assert slopes[:, 1].max() > 0.15
 
 
+def test_driving_vehicles_stand_on_the_road_in_their_lanes(driving_worlds):
+    """Every vehicle's box stands on the road, 1.65 m below the camera (its
+    height above the road, Notes), in every frame; it starts within 0.4 m of
+    its lane's centre line (uniform), ahead (plus a smooth noise of 0.1 m) or
+    oncoming (exactly), so the offsets average 0 with either sign."""
+    height = 1.65
+    offsets = []
+    for w in driving_worlds:
+        bottom = w.object_centres[..., 1] + w.object_sizes[:, None, 1] / 2
+        np.testing.assert_allclose(bottom, height, atol=1e-12)
+        # frame 0: the camera at the origin, heading along z
+        x = w.object_centres[:, 0, 0]
+        lanes = np.array([-3.5, 0.0, 3.5])
+        offsets.append(x - lanes[np.argmin(np.abs(x[:, None] - lanes), axis=1)])
+    offsets = np.concatenate(offsets)
+    assert np.all(np.abs(offsets) < 0.4 + 5 * 0.1)
+    assert abs(offsets.mean()) < 0.1
+    assert np.mean(offsets > 0) == pytest.approx(0.5, abs=0.15)
+
+
 def test_driving_camera_turns_at_most_0_03_rad_a_frame():
     """The car's yaw rate is a random walk (steps of 5e-4 rad a frame, from an
     initial rate of at most 0.004) clipped to +-0.03 rad a frame: on 3,000
