@@ -21,12 +21,15 @@ from sklearn_gpca.datasets import _track_draw, make_tracks
 from sklearn_gpca.datasets._track_draw import _typical_step
 from sklearn_gpca.datasets._track_geometry import (
     UnseenMotionError,
+    _background_candidates,
+    _object_candidates,
     make_camera,
     make_occluders,
     sample_points,
     track_geometry,
 )
 from sklearn_gpca.datasets._track_lifetimes import calibrate_lifetime, track_lengths
+from sklearn_gpca.datasets._track_scenes import SCENES, make_scene
 
 
 def _still_scene(object_centres, n_frames=2):
@@ -522,3 +525,118 @@ def test_first_frame_share_without_a_missing_target(scene, kwargs, share):
         **kwargs,
     )
     assert info.first_frame_share == pytest.approx(share)
+
+
+def test_occluders_exist_in_every_frame_the_box_is_in_front():
+    """A box's silhouette is None exactly in the frames where a corner is at
+    or behind the near plane (here frame 2 of 5), a convex hull elsewhere."""
+    centres = [[[0, 0, 5], [0, 0, 5], [0, 0, -5], [0, 0, 6], [0, 0, 7]]]
+    scene = _still_scene(centres, n_frames=5)
+    camera = make_camera("perspective", 100.0, (200, 100), (4.0, 16.0), scene)
+    (per_frame,) = make_occluders(scene, camera)
+    assert [occluder is None for occluder in per_frame] == [
+        False,
+        False,
+        True,
+        False,
+        False,
+    ]
+    assert [occluder[1] for occluder in per_frame if occluder] == [5, 5, 6, 7]
+
+
+def test_object_points_are_uniform_on_the_box_surface():
+    """Points uniformly on the surface of a 1 x 2 x 3 box: a pair of faces
+    holds its share of the area (x faces 6/11, y 3/11, z 2/11), each point
+    on the face its outward normal names, uniform across the face."""
+    points, normals = _object_candidates(
+        (1.0, 2.0, 3.0), 40_000, np.random.RandomState(0)
+    )
+    size = np.array([1.0, 2.0, 3.0])
+    assert_array_equal(np.abs(normals).sum(axis=1), 1)
+    rows, axis = np.nonzero(normals)
+    assert_array_equal(rows, np.arange(len(points)))
+    assert_array_equal(points[rows, axis], normals[rows, axis] * size[axis] / 2)
+    shares = np.bincount(axis, minlength=3) / len(axis)
+    assert_allclose(shares, np.array([6.0, 3.0, 2.0]) / 11, atol=0.01)
+    assert np.mean(normals.sum(axis=1) > 0) == pytest.approx(0.5, abs=0.01)
+    # across a face, each coordinate uniform on its side
+    for k in range(3):
+        free = points[axis != k, k] / size[k]
+        assert np.all(np.abs(free) <= 0.5)
+        assert np.mean(free > 0) == pytest.approx(0.5, abs=0.02)
+        assert free.std() == pytest.approx(np.sqrt(1 / 12), rel=0.03)
+
+
+@pytest.fixture(scope="module")
+def street():
+    """A driving scene (facades, a road 1.65 m below the camera) and 20,000
+    background candidates born in its 10 frames, for both cameras."""
+    p = SCENES["driving"]
+    world = make_scene(
+        "driving",
+        10,
+        0,
+        p["forward_speed"],
+        p["focal_length"],
+        p["image_size"],
+        p["depth_range"],
+        p["frame_rate"],
+        np.random.RandomState(0),
+    )
+    rng = np.random.RandomState(1)
+    births = rng.randint(0, 10, size=20_000)
+    draws = {}
+    for kind in ("perspective", "affine"):
+        camera = make_camera(
+            kind, p["focal_length"], p["image_size"], p["depth_range"], world
+        )
+        points, keep = _background_candidates(
+            births, camera, world, p["depth_range"], rng
+        )
+        Rc, C = world.camera_rotations[births], world.camera_centres[births]
+        cam = np.einsum("nji,nj->ni", Rc, points - C)
+        draws[kind] = Bunch(camera=camera, points=points, keep=keep, cam=cam)
+    return world, births, draws
+
+
+@pytest.mark.parametrize("kind", ["perspective", "affine"])
+def test_background_points_are_seen_at_uniform_pixels(street, kind):
+    """A background candidate projects, in its birth frame, to a pixel uniform
+    on the image (Notes: "background points at a uniform pixel"), through the
+    pinhole or the affine camera (scale: the background's reference depth),
+    in front of the camera and no farther than ``depth_range[1]``."""
+    _world, births, draws = street
+    d = draws[kind]
+    width, height = SCENES["driving"]["image_size"]
+    f = SCENES["driving"]["focal_length"]
+    depth = d.cam[:, 2] if kind == "perspective" else d.camera.zref[0, births]
+    pixels = f * d.cam[:, :2] / depth[:, None] + [width / 2, height / 2]
+    u = pixels / [width, height]
+    assert np.all((u >= 0) & (u < 1))
+    for axis in range(2):
+        counts = np.histogram(u[:, axis], bins=4, range=(0, 1))[0] / len(u)
+        assert_allclose(counts, 0.25, atol=0.015)
+    assert np.all(
+        (d.cam[:, 2] > 0) & (d.cam[:, 2] <= SCENES["driving"]["depth_range"][1])
+    )
+
+
+def test_background_points_stop_on_the_road_and_the_facades(street):
+    """Nothing lies below the road (1.65 m below the camera at frame 0, y
+    down) or beyond the facades (at the scene's distances left and right of
+    the camera, in its birth frame); rays that reach the road stop on it,
+    and a tracker keeps 30 % of the road's points (little texture), and
+    every point in the open (on neither the road nor a facade)."""
+    world, _births, draws = street
+    d = draws["perspective"]
+    ground = world.ground_height
+    assert ground == 1.65
+    assert np.all(d.points[:, 1] <= ground + 1e-9)
+    on_road = np.isclose(d.points[:, 1], ground)
+    assert 0.1 < on_road.mean() < 0.9
+    left, right = world.walls
+    assert np.all((d.cam[:, 0] >= -left - 1e-9) & (d.cam[:, 0] <= right + 1e-9))
+    on_wall = np.isclose(d.cam[:, 0], -left) | np.isclose(d.cam[:, 0], right)
+    assert 0.1 < on_wall.mean() < 0.9
+    assert np.all(d.keep[~on_road & ~on_wall])
+    assert d.keep[on_road].mean() == pytest.approx(0.3, abs=0.03)
