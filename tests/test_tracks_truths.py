@@ -260,6 +260,9 @@ def test_driving_vehicles_stand_on_the_road_in_their_lanes(driving_worlds):
         offsets.append(x - lanes[np.argmin(np.abs(x[:, None] - lanes), axis=1)])
     offsets = np.concatenate(offsets)
     assert np.all(np.abs(offsets) < 0.4 + 5 * 0.1)
+    # each side jittered on its own: the boxes' proportions vary
+    sizes = np.concatenate([w.object_sizes for w in driving_worlds])
+    assert np.log(sizes[:, 0] / sizes[:, 2]).std() > 0.03
     assert abs(offsets.mean()) < 0.1
     assert np.mean(offsets > 0) == pytest.approx(0.5, abs=0.15)
 
@@ -360,6 +363,8 @@ def test_in_view_at_start_keeps_a_tenth_of_the_image_as_margin(axis):
     assert not _in_view_at_start(outside, f, size)
     assert not _in_view_at_start(-outside * [1, 1, -1], f, size)
     assert not _in_view_at_start(inside * [1, 1, -1], f, size)
+    # any depth in front counts, however near
+    assert _in_view_at_start(inside * 0.01, f, size)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert not _in_view_at_start(np.zeros(3), f, size)
