@@ -27,6 +27,7 @@ from sklearn_gpca.datasets._track_geometry import (
     make_occluders,
     sample_points,
     track_geometry,
+    visible_share,
 )
 from sklearn_gpca.datasets._track_lifetimes import calibrate_lifetime, track_lengths
 from sklearn_gpca.datasets._track_scenes import SCENES, make_scene
@@ -668,3 +669,27 @@ def test_background_points_stop_on_the_road_and_the_facades(street):
     assert 0.1 < on_wall.mean() < 0.9
     assert np.all(d.keep[~on_road & ~on_wall])
     assert d.keep[on_road].mean() == pytest.approx(0.3, abs=0.03)
+
+
+def test_only_faces_turned_to_the_camera_are_visible():
+    """Seen head-on from 5 m, a box shows only its front face: a point on it
+    is visible, one on the back face is not (its own silhouette never hides
+    it), and the visible share of the surface is the front face's area share,
+    1/6 of a unit cube; a 1 x 1 x 4 box 5 m to the right also shows its left
+    side: (1 + 4) / 18 of its surface (4,000 probes)."""
+    scene = _still_scene([[[0, 0, 5], [0, 0, 5]], [[5, 0, 30], [5, 0, 30]]])
+    scene.object_sizes = np.array([[1.0, 1.0, 1.0], [1.0, 1.0, 4.0]])
+    camera = make_camera("perspective", 100.0, (200, 100), (4.0, 16.0), scene)
+    occluders = make_occluders(scene, camera)
+    points = np.array([[0.1, 0.1, -0.5], [0.1, 0.1, 0.5]])
+    normals = np.array([[0.0, 0.0, -1.0], [0.0, 0.0, 1.0]])
+    geometry = track_geometry(points, normals, 1, occluders, camera, scene)
+    assert_array_equal(geometry.in_view, [[True, True], [True, True]])
+    assert_array_equal(geometry.visible, [[True, True], [False, False]])
+    rng = np.random.RandomState(0)
+    for motion, share in [(1, 1 / 6), (2, 5 / 18)]:
+        per_frame, throughout = visible_share(
+            motion, occluders, camera, scene, rng, n_probes=4000
+        )
+        assert_allclose(per_frame, share, atol=0.025)
+        assert throughout == pytest.approx(share, abs=0.025)
