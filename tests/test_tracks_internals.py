@@ -23,6 +23,7 @@ from sklearn_gpca.datasets._track_geometry import (
     UnseenMotionError,
     _background_candidates,
     _object_candidates,
+    in_image,
     make_camera,
     make_occluders,
     sample_points,
@@ -693,3 +694,25 @@ def test_only_faces_turned_to_the_camera_are_visible():
         )
         assert_allclose(per_frame, share, atol=0.025)
         assert throughout == pytest.approx(share, abs=0.025)
+
+
+def test_the_image_is_the_half_open_pixel_rectangle():
+    """A pixel is in the image on ``[0, width) x [0, height)``: its first row
+    and column included, the borders at ``width`` and ``height`` excluded,
+    NaN (behind the camera) excluded."""
+    camera = Bunch(width=200.0, height=100.0)
+    pixels = np.array(
+        [
+            [0.0, 0.0],
+            [0.5, 0.5],
+            [199.9, 99.9],
+            [200.0, 50.0],
+            [50.0, 100.0],
+            [-0.1, 50.0],
+            [50.0, -0.1],
+            [np.nan, 50.0],
+        ]
+    )
+    assert_array_equal(
+        in_image(pixels, camera), [True, True, True, False, False, False, False, False]
+    )
