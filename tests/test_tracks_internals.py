@@ -716,3 +716,25 @@ def test_the_image_is_the_half_open_pixel_rectangle():
     assert_array_equal(
         in_image(pixels, camera), [True, True, True, False, False, False, False, False]
     )
+
+
+def test_with_one_frame_lifetimes_every_track_is_seen_its_shortest():
+    """Lifetimes of one frame (``mean_lifetime=1``) leave each track its
+    shortest length: an inlier 1 frame, a random walk 3 (Notes: "at least
+    three frames"), a drift or jump track until two frames after its switch
+    frame ``s`` (it ends at ``s + 3``)."""
+    _X, y, info = make_tracks(
+        scene="handheld",
+        n_tracks=200,
+        n_frames=20,
+        mean_lifetime=1.0,
+        outlier_fraction=0.3,
+        random_state=0,
+        return_info=True,
+    )
+    length = info.end - info.birth
+    switching = _switching_outliers(info)
+    assert switching.sum() > 10 and np.sum(info.kind == "random_walk") > 5
+    assert np.all(length[y >= 0] == 1)
+    assert np.all(length[info.kind == "random_walk"] == 3)
+    assert_array_equal(info.end[switching], info.switch_frame[switching] + 3)
