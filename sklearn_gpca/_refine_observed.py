@@ -104,6 +104,87 @@ def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=Tr
     return costs
 
 
+def refinement_objective(
+    X0,
+    mask,
+    labels,
+    n_clusters,
+    *,
+    neighbors,
+    smoothing=3.0,
+    subspace_dim=4,
+    neighbor_weights=None,
+    per_cluster=True,
+):
+    """Value of the objective that :func:`refine_observed` descends.
+
+    With one subspace per cluster fitted to its tracks' observed entries
+    (:func:`fit_observed_subspace`), ``rho_pk``, ``s_k`` and ``m_p`` as in
+    :func:`assignment_costs` and ``D`` the weighted neighbour disagreements
+    (:func:`neighbor_disagreements`)::
+
+        sum_p m_p (rho_{p l_p} / s_{l_p} + log s_{l_p}) / median(m)
+              + smoothing * sum_p D[p, l_p]
+
+    the negative log-likelihood of the tracks under Gaussian noise of
+    variance ``s_k`` per coordinate in motion ``k``, plus the smoothing
+    penalty. Unlike the assignment costs, the scales are not divided by the
+    overall misfit ``s_0`` (which depends on the labels): the values of two
+    segmentations of the same tracks, with the same neighbours, compare
+    (lower is better; a change of units shifts every value alike).
+
+    Parameters
+    ----------
+    X0, mask, labels, n_clusters, neighbors, smoothing, subspace_dim
+        As in :func:`refine_observed`; ``labels`` in ``0 .. n_clusters - 1``.
+    neighbor_weights, per_cluster
+        As in :func:`refine_observed`.
+
+    Returns
+    -------
+    objective : float
+    """
+    labels = np.asarray(labels, dtype=np.intp)
+    if (
+        labels.shape != (X0.shape[0],)
+        or not np.isin(labels, np.arange(n_clusters)).all()
+    ):
+        raise ValueError(
+            f"labels must hold one label in 0 .. {n_clusters - 1} per track "
+            f"({X0.shape[0]}), got shape {labels.shape}."
+        )
+    dims = np.broadcast_to(np.asarray(subspace_dim, dtype=np.intp), (n_clusters,))
+    bases, supports = [], []
+    for k in range(n_clusters):
+        members = np.flatnonzero(labels == k)
+        if members.size <= dims[k]:
+            # an (almost) empty motion costs nothing and explains nothing
+            members = np.flatnonzero(np.ones_like(labels, dtype=bool))
+        basis, support = fit_observed_subspace(X0[members], mask[members], int(dims[k]))
+        bases.append(basis)
+        supports.append(support)
+    residuals, dofs = subspace_residuals(X0, mask, bases, supports)
+    costs = assignment_costs(residuals, dofs, labels, per_cluster=per_cluster)
+    # undo the division by the overall misfit s_0: add log s_0 per unit weight
+    evidence = dofs.max(axis=1)
+    has = evidence > 0
+    per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+    own = per_dof[np.arange(labels.size), labels]
+    usable = has & np.isfinite(own)
+    overall = max(float(np.median(own[usable])) if usable.any() else 1.0, TINY)
+    weight = evidence / max(float(np.median(evidence[has])) if has.any() else 1.0, 1.0)
+    rows = np.arange(labels.size)
+    data = costs[rows, labels]
+    data = np.where(has, data + weight * np.log(overall), 0.0)
+    total = float(np.sum(data[np.isfinite(data)]))
+    if smoothing > 0:
+        disagree = neighbor_disagreements(
+            labels, neighbors, n_clusters, neighbor_weights
+        )
+        total += smoothing * float(np.sum(disagree[rows, labels]))
+    return total
+
+
 def misfit_ratios(residuals, dofs, labels):
     """Each track's smallest misfit to a motion, relative to the motion's own.
 

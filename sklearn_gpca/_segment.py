@@ -58,7 +58,7 @@ from sklearn_gpca._observed_subspaces import (
     subspace_residuals,
 )
 from sklearn_gpca._outliers import screened_segmentation
-from sklearn_gpca._refine_observed import refine_observed
+from sklearn_gpca._refine_observed import refine_observed, refinement_objective
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
     coding_length,
@@ -225,6 +225,30 @@ def votes_candidate(X, X0, mask, n_motions, models, *, random_state):
     if known.all():
         return full
     return _nearest_labels(X0, mask, full, known, n_motions)
+
+
+def track_graph(X0, mask, n_neighbors, *, random_state):
+    """Neighbours, noise level, motion affinity and smoothing weights.
+
+    Returns
+    -------
+    neighbors : ndarray of shape (n_tracks, n_search)
+        ``max(GRAPH_NEIGHBORS, n_neighbors)`` nearest tracks (``-1`` none).
+    noise : float
+        Noise variance per coordinate.
+    affinity : sparse matrix of shape (n_tracks, n_tracks)
+        How alike neighbouring tracks move.
+    weights : ndarray of shape (n_tracks, n_local)
+        Weight of each of the first ``n_neighbors`` neighbours in the
+        smoothing term.
+    """
+    n_search = min(max(GRAPH_NEIGHBORS, n_neighbors), X0.shape[0] - 1)
+    neighbors = track_neighbors(X0, mask, n_search)
+    noise = local_noise_level(X0, mask, neighbors, random_state=random_state)
+    affinity = motion_affinity(X0, mask, neighbors)
+    n_local = min(n_neighbors, n_search)
+    weights = edge_weights(affinity, neighbors[:, :n_local])
+    return neighbors, noise, affinity, weights
 
 
 def _merge_split(X0, mask, labels, n_motions, affinity, noise, refine_kwargs):
@@ -407,7 +431,8 @@ def segment_motions(
         Seeds the spectral clustering, k-means and the projections.
     return_info : bool, default=False
         Also return a Bunch with the candidates, their refined labels,
-        coding lengths and ambiguous fractions, and the estimated noise.
+        coding lengths, ambiguous fractions and refinement objectives, and
+        the estimated noise.
 
     Returns
     -------
@@ -417,7 +442,10 @@ def segment_motions(
     info : Bunch
         Only with ``return_info``: ``candidates`` (names), ``initial`` and
         ``refined`` (lists of label arrays), ``n_iters`` (rounds of each
-        refinement), ``coding_lengths`` (bits), ``ambiguity`` (share of
+        refinement), ``objectives`` (the value of
+        :func:`sklearn_gpca._refine_observed.refinement_objective` at each
+        refined candidate; lower fits better), ``coding_lengths`` (bits),
+        ``ambiguity`` (share of
         ambiguous tracks; NaN for a candidate of one motion), ``chosen``
         (index; ``refined[chosen]`` is the segmentation before the
         merge/split moves), ``n_moves`` (moves kept), ``noise`` (variance
@@ -469,13 +497,10 @@ def segment_motions(
             return labels, Bunch(candidates=[], chosen=-1, n_iters=[], scale=scale)
         return labels
 
-    n_search = min(max(GRAPH_NEIGHBORS, n_neighbors), n_samples - 1)
-    neighbors = track_neighbors(X0, mask, n_search)
-    noise = local_noise_level(X0, mask, neighbors, random_state=random_state)
-
-    affinity = motion_affinity(X0, mask, neighbors)
-    n_local = min(n_neighbors, n_search)
-    weights = edge_weights(affinity, neighbors[:, :n_local])
+    neighbors, noise, affinity, weights = track_graph(
+        X0, mask, n_neighbors, random_state=random_state
+    )
+    n_local = weights.shape[1]
 
     names, initial = [], []
     if n_motions == 1:
@@ -575,8 +600,27 @@ def segment_motions(
             X0, mask, labels, n_motions, affinity, noise, refine_kwargs
         )
     if return_info:
+        objective_kwargs = {
+            key: refine_kwargs[key]
+            for key in (
+                "neighbors",
+                "neighbor_weights",
+                "smoothing",
+                "subspace_dim",
+                "per_cluster",
+            )
+        }
+        objectives = np.array(
+            [
+                refinement_objective(X0, mask, r, n_motions, **objective_kwargs)
+                if (r >= 0).all()
+                else np.nan
+                for r in refined
+            ]
+        )
         return labels, Bunch(
             candidates=names,
+            objectives=objectives,
             initial=initial,
             refined=refined,
             n_iters=n_iters,
