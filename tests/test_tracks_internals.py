@@ -33,6 +33,7 @@ from sklearn_gpca.datasets._track_geometry import (
 from sklearn_gpca.datasets._track_lifetimes import (
     birth_probabilities,
     calibrate_lifetime,
+    first_frame_share,
     track_lengths,
 )
 from sklearn_gpca.datasets._track_outliers import _random_walks
@@ -813,6 +814,10 @@ def test_birth_probabilities_give_frame_zero_its_share():
     assert_allclose(birth_probabilities(1, 0.7), [1.0])
     assert_allclose(birth_probabilities(5, 0.6), [0.6, 0.1, 0.1, 0.1, 0.1])
     assert_allclose(birth_probabilities(5, 0.6, last=2), [0.75, 0.125, 0.125, 0, 0])
+    # Notes: 1 - missing, or m / (m + F - 1), whose limit is 1 without deaths
+    assert first_frame_share(10, missing=0.3) == pytest.approx(0.7)
+    assert first_frame_share(10, mean_lifetime=9.0) == pytest.approx(0.5)
+    assert first_frame_share(10, mean_lifetime=np.inf) == 1.0
 
 
 class _Shares:
@@ -891,3 +896,30 @@ def test_resolve_accepts_small_and_equal_depths():
     assert params["depth_range"] == (0.5, 0.5)
     assert params["image_size"] == (64.0, 48.0)
     assert params["n_frames"] == SCENES["lab"]["n_frames"]
+
+
+def test_a_frame_rate_below_the_native_one_spans_the_same_time():
+    """At 10 frames a second a hand-held scene (native 30) takes every third
+    native pose: its 10 frames span 0.9 s, so the camera, without a subject
+    to pan after, walks about ``0.9 * forward_speed`` ahead (20 % smooth speed
+    noise)."""
+    p = SCENES["handheld"]
+    walked = []
+    for seed in range(10):
+        world = make_scene(
+            "handheld",
+            10,
+            0,
+            p["forward_speed"],
+            p["focal_length"],
+            p["image_size"],
+            p["depth_range"],
+            10.0,
+            np.random.default_rng(seed),
+        )
+        assert world.camera_centres.shape == (10, 3)
+        assert world.object_centres.shape == (0, 10, 3)
+        walked.append(
+            np.linalg.norm(world.camera_centres[-1] - world.camera_centres[0])
+        )
+    assert np.mean(walked) == pytest.approx(0.9 * p["forward_speed"], rel=0.15)
