@@ -445,11 +445,11 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
     the refinement started from the truth keeps. ``n_segments`` (merging the
     pieces back) and ``n_rounds`` (purer hypotheses for small objects) are
     for that case. Cut in ``2 n_clusters`` segments, the motions are nearly
-    separated (a merge of the segments could reach 5 % error on 3 motions,
+    separated (the best merge of the segments would err 5 % on 3 motions,
     15 % on 5), but no merge rule tried finds that merge on both: greedy
     association does best on 5 motions and worse than the defaults on 3;
-    ``merge="average"`` does better than the defaults on 3 and 5 motions,
-    and less well than greedy association on 5.
+    ``merge="average"`` does best on the wide-angle setting, between the
+    two on 5 motions, and a few points worse than the defaults on 3.
     ``benchmarks/results/perspective.md`` and
     ``benchmarks/results/perspective_merges.md`` give the figures.
 
