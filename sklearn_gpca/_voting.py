@@ -27,6 +27,7 @@ import scipy.linalg
 import scipy.sparse as sp
 
 from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._threads import one_thread
 
 # Fit/assign rounds of each voting run after its first assignment (not tuned:
 # plain K-subspaces settles within a few rounds).
@@ -258,9 +259,15 @@ def vote_confidence(features, n_clusters):
     scaled = features / np.sqrt(degrees)[:, None]
     # N = S S^T with S = D^{-1/2} B shares its non-zero eigenvalues with the
     # Gram matrix on the smaller side of S; only the top n are computed
-    gram = (
-        scaled @ scaled.T if scaled.shape[0] <= scaled.shape[1] else scaled.T @ scaled
-    )
-    size = gram.shape[0]
-    values = scipy.linalg.eigvalsh(gram, subset_by_index=[size - n_clusters, size - 1])
+    # one BLAS thread: a small problem, run once per fit (see _threads)
+    with one_thread("blas"):
+        gram = (
+            scaled @ scaled.T
+            if scaled.shape[0] <= scaled.shape[1]
+            else scaled.T @ scaled
+        )
+        size = gram.shape[0]
+        values = scipy.linalg.eigvalsh(
+            gram, subset_by_index=[size - n_clusters, size - 1]
+        )
     return float(np.clip(values[:-1].mean(), 0.0, 1.0))
