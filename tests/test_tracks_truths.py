@@ -244,6 +244,65 @@ def test_driving_cars_ahead_drift_slowly_relative_to_the_ego_car(driving_worlds)
     assert slopes[:, 1].max() > 0.15
 
 
+def test_driving_vehicles_stand_on_the_road_in_their_lanes(driving_worlds):
+    """Every vehicle's box stands on the road, 1.65 m below the camera (its
+    height above the road, Notes), in every frame; it starts within 0.4 m of
+    its lane's centre line (uniform), ahead (plus a smooth noise of 0.1 m) or
+    oncoming (exactly), so the offsets average 0 with either sign."""
+    height = 1.65
+    offsets = []
+    for w in driving_worlds:
+        bottom = w.object_centres[..., 1] + w.object_sizes[:, None, 1] / 2
+        np.testing.assert_allclose(bottom, height, atol=1e-12)
+        # frame 0: the camera at the origin, heading along z
+        x = w.object_centres[:, 0, 0]
+        lanes = np.array([-3.5, 0.0, 3.5])
+        offsets.append(x - lanes[np.argmin(np.abs(x[:, None] - lanes), axis=1)])
+    offsets = np.concatenate(offsets)
+    assert np.all(np.abs(offsets) < 0.4 + 5 * 0.1)
+    # each side jittered on its own: the boxes' proportions vary
+    sizes = np.concatenate([w.object_sizes for w in driving_worlds])
+    assert np.log(sizes[:, 0] / sizes[:, 2]).std() > 0.03
+    assert abs(offsets.mean()) < 0.1
+    assert np.mean(offsets > 0) == pytest.approx(0.5, abs=0.15)
+
+
+def test_driving_oncoming_traffic_facades_and_following_distance(driving_worlds):
+    """Oncoming vehicles drive 0.5-1.2 m a frame (uniform) with a smooth noise
+    of 5 %, and start at least 6 m apart; a vehicle ahead turns with the road
+    plus a random walk of 2e-3 rad a frame, and one falling behind is held
+    4 m ahead of the camera. Each facade stands 6-15 m away (uniform: on 45
+    scenes, both ends within a metre)."""
+    speeds, noise, gaps, nearest, turns, walls = [], [], [], [], [], []
+    for w in driving_worlds:
+        yaw0 = _yaw(w.object_rotations[:, 0])
+        oncoming = np.cos(yaw0) < 0
+        speed = np.linalg.norm(np.diff(w.object_centres, axis=1), axis=-1)
+        median = np.median(speed[oncoming], axis=1)
+        speeds.append(median)
+        noise.append((speed[oncoming] / median[:, None] - 1).ravel())
+        start = w.object_centres[oncoming, 0]
+        gap = np.linalg.norm(start[:, None] - start[None], axis=-1)
+        gaps.append(gap[np.triu_indices(len(start), 1)])
+        C, camera_yaw = w.camera_centres, _yaw(w.camera_rotations)
+        heading = Rotation.from_euler("Y", camera_yaw[:, None]).as_matrix()
+        for k in np.flatnonzero(~oncoming):
+            rel = np.einsum("fji,fj->fi", heading, w.object_centres[k] - C)
+            nearest.append(rel[:, 2].min())
+            turns.append(np.diff(_yaw(w.object_rotations[k]) - camera_yaw))
+        walls.append(w.walls)
+    speeds = np.concatenate(speeds)
+    assert np.all((speeds > 0.5 * 0.85) & (speeds < 1.2 * 1.15))
+    assert speeds.min() < 0.6 and speeds.max() > 1.1
+    assert 0.025 < np.concatenate(noise).std() < 0.07
+    assert np.concatenate(gaps).min() >= 6.0
+    assert np.any(np.isclose(nearest, 4.0))
+    assert 0.0017 < np.concatenate(turns).std() < 0.0023
+    walls = np.array(walls)
+    assert np.all((walls >= 6) & (walls <= 15))
+    assert np.all(walls.min(axis=0) < 7) and np.all(walls.max(axis=0) > 14)
+
+
 def test_driving_camera_turns_at_most_0_03_rad_a_frame():
     """The car's yaw rate is a random walk (steps of 5e-4 rad a frame, from an
     initial rate of at most 0.004) clipped to +-0.03 rad a frame: on 3,000
@@ -255,6 +314,38 @@ def test_driving_camera_turns_at_most_0_03_rad_a_frame():
     rates = np.concatenate(rates)
     assert np.all(np.abs(rates) <= 0.03 + 1e-9)
     assert np.mean(np.abs(rates) > 0.03 - 1e-9) > 0.01
+
+
+def test_driving_camera_rides_and_steers_smoothly():
+    """The car drives ``forward_speed / 10`` m a frame with a smooth (AR(1))
+    relative noise of 5 %; its camera bobs 1 cm, pitches 0.003 rad and rolls
+    0.002 rad (smooth noises). Its yaw rate starts uniform within 0.004 rad a
+    frame (either sign), then walks by steps of 5e-4 rad (40 scenes of 30
+    frames: bounds at 4-5 standard deviations)."""
+    forward = SCENES["driving"]["forward_speed"] / SCENES["driving"]["frame_rate"]
+    first_rates, rate_steps, speeds, bobs, pitches, rolls = [], [], [], [], [], []
+    for seed in range(40):
+        world = _draw("driving", 30, 0, seed)
+        angles = Rotation.from_matrix(world.camera_rotations).as_euler("YXZ")
+        rate = np.diff(angles[:, 0])
+        first_rates.append(rate[0])
+        rate_steps.append(np.diff(rate))
+        C = world.camera_centres
+        speeds.append(np.linalg.norm(np.diff(C[:, [0, 2]], axis=0), axis=1))
+        bobs.append(C[:, 1])
+        pitches.append(angles[:, 1])
+        rolls.append(angles[:, 2])
+    first_rates = np.array(first_rates)
+    assert np.all(np.abs(first_rates) < 0.004 + 5 * 5e-4)
+    assert first_rates.max() > 0.002 and first_rates.min() < -0.002
+    assert abs(first_rates.mean()) < 0.0013
+    assert np.concatenate(rate_steps).std() == pytest.approx(5e-4, rel=0.1)
+    relative = np.concatenate(speeds) / forward - 1
+    assert abs(relative.mean()) < 0.02
+    assert 0.035 < relative.std() < 0.065
+    assert 0.0075 < np.concatenate(bobs).std() < 0.0125
+    assert 0.0022 < np.concatenate(pitches).std() < 0.0038
+    assert 0.0015 < np.concatenate(rolls).std() < 0.0025
 
 
 @pytest.mark.parametrize("axis", [0, 1])
@@ -272,6 +363,8 @@ def test_in_view_at_start_keeps_a_tenth_of_the_image_as_margin(axis):
     assert not _in_view_at_start(outside, f, size)
     assert not _in_view_at_start(-outside * [1, 1, -1], f, size)
     assert not _in_view_at_start(inside * [1, 1, -1], f, size)
+    # any depth in front counts, however near
+    assert _in_view_at_start(inside * 0.01, f, size)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert not _in_view_at_start(np.zeros(3), f, size)
