@@ -137,7 +137,7 @@ MISSES_NOTE = (
     "(measured with the same segmentations outside this script). "
     "(1) Segmentation errors cost more than a split: in 1R2RC_g13, "
     "1RT2TC_g12, 1RT2TC_g13, 2RT3RC and 2T3RCRT_g23 the true labels cost 30 "
-    "to 440 bits less than the segmentation chosen, so the criterion would "
+    "to 200 bits less than the segmentation chosen, so the criterion would "
     "count right, but the segmentation with the true n misassigns 1 to 13 "
     "trajectories (0.5 to 4 %; in 1RT2TC a single trajectory costs about "
     "200 bits, a direction added to its group's code) and one with a motion "
