@@ -13,8 +13,10 @@ three scenes, ``--draws`` seeds each. For every draw:
   ``THRESHOLD``: what the test achieves when the segmentation is right;
 - *segment_motions*: ``segment_motions(X, n, outlier_threshold=THRESHOLD)``,
   whose flags are those of the label-free local test
-  (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`), computed
-  before the segmentation;
+  (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`), checked on
+  strongly perspective draws by the two-view test
+  (:mod:`sklearn_gpca._epipolar_outliers`), computed before the
+  segmentation;
 - the misclassification of the inliers (an inlier flagged -1 is an error)
   with the outliers present, and of ``segment_motions`` on the same draw
   without the outlier rows, with and without the threshold (the
@@ -44,6 +46,7 @@ from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
 from sklearn_gpca import segment_motions
+from sklearn_gpca._epipolar_outliers import PERSPECTIVE_DEVIATION
 from sklearn_gpca._observed_subspaces import (
     fit_observed_subspace,
     observed_entries,
@@ -284,7 +287,14 @@ def main():
         "the local test (`sklearn_gpca._local_outliers.local_outlier_pvalues`"
         ", label-free: each track against the subspace of the tracks that "
         "move most like it, on windows of 10 frames), taken before the "
-        "segmentation; the local test's settings were tuned on seeds 0-2. "
+        "segmentation; on a strongly perspective draw (the dominant motion's "
+        "affine deviation, median over frame pairs, at least "
+        f"{PERSPECTIVE_DEVIATION:g} noise deviations) a flagged track must "
+        "also fail the two-view test (`sklearn_gpca._epipolar_outliers`: "
+        "each frame pair's fundamental matrices, one per motion, fitted "
+        "robustly). The local test's settings were tuned on seeds 0-2; the "
+        "two-view test's (its gaps, the perspective switch) on seeds 10-12 "
+        "of the three settings, local test alone. "
         "*outlier-free*: `segment_motions` on the same draw with the outlier "
         "rows removed.",
         "",

@@ -234,7 +234,9 @@ def screened_segmentation(
     The test (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`)
     needs no segmentation, so the outliers are set aside *before* the
     candidate segmentations are drawn and one is selected: they can no
-    longer pull a motion's subspace or merge two motions.
+    longer pull a motion's subspace or merge two motions. Under strong
+    perspective, a flagged track must also fail the two-view test of
+    :func:`sklearn_gpca._epipolar_outliers.perspective_checked_pvalues`.
 
     Parameters
     ----------
@@ -261,6 +263,7 @@ def screened_segmentation(
     info : Bunch
         Only with ``return_info``.
     """
+    from sklearn_gpca._epipolar_outliers import perspective_checked_pvalues
     from sklearn_gpca._local_outliers import local_outlier_pvalues
     from sklearn_gpca._observed_subspaces import observed_entries
 
@@ -274,6 +277,10 @@ def screened_segmentation(
             )
     X0, mask = observed_entries(X)
     pvalues = local_outlier_pvalues(X0, mask)
+    if np.any(pvalues < outlier_threshold):
+        pvalues = perspective_checked_pvalues(
+            X0, mask, pvalues, n_motions, random_state=kwargs.get("random_state")
+        )
     outliers = pvalues < outlier_threshold
     if np.count_nonzero(~outliers) <= n_motions:
         # too few tracks left to segment: the test is not applied

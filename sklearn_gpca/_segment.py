@@ -397,9 +397,11 @@ def segment_motions(
         option. None labels every track with a motion. Tracks seen in 2
         frames or fewer (within every window) cannot be tested and keep a
         motion label; a drift between two motions that move alike, or seen
-        in 2-3 frames after its switch, is often missed; under strong
-        perspective (a forward-moving camera) the nearest, fastest
-        background tracks misfit their neighbours and some are flagged
+        in 2-3 frames after its switch, is often missed. Under strong
+        perspective (a forward-moving camera) the nearest background tracks
+        misfit their neighbours: there a flagged track must also fit no
+        motion's epipolar geometry
+        (:mod:`sklearn_gpca._epipolar_outliers`); some are still flagged
         (``benchmarks/results/outliers.md`` gives precision and recall).
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
