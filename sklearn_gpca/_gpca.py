@@ -702,12 +702,16 @@ class GPCAClustering(ClusterMixin, BaseEstimator):
         points among the segmentations whose groups are distinct
         hyperplanes (:func:`distinct_coding_length_cost`). On Hopkins155 the
         first finds the number of motions on 88 % of the sequences, the
-        second on 73 % (it merges two of three motions); both under-count
+        second on 72 % (it merges two of three motions); both under-count
         synthetic motions that differ only in directions of little energy,
         and the first expects image coordinates centred near the image
         (calibrated, or the principal point subtracted): with the origin at
-        the image corner it finds 74 % of Hopkins155.
-        ``benchmarks/results/n_motions.md`` measures both.
+        the image corner it finds 74 % of Hopkins155. Its misses are a
+        rigid body whose planar parts are counted as motions, two motions
+        near one low-dimensional subspace counted as one, a few misassigned
+        trajectories split off as a motion, and articulated motions.
+        ``benchmarks/results/n_motions.md`` measures both and lists the
+        misses.
     max_clusters : int, default=5
         Largest number of subspaces tried by ``n_clusters="auto"``; ignored
         otherwise. Values whose Veronese embedding needs more points than
