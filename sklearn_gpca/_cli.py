@@ -167,24 +167,50 @@ def _demo(args):
 # segment
 
 
-def _pipeline(n_motions, rank, random_state):
+def _pipeline(n_motions, rank, random_state, shape):
+    """``PowerFactorization(rank)`` then ``GPCAClustering(n_motions)``; with
+    ``n_motions="auto"`` the counting pipeline of ``GPCAClustering``: the
+    unwhitened projection of rank ``4 * AUTO_MAX_MOTIONS`` (at most the number
+    of trajectories and of coordinates), segmented in its leading ``rank``
+    directions, where the trajectory coding length chooses among ``1 ..
+    AUTO_MAX_MOTIONS`` motions."""
     from sklearn.pipeline import make_pipeline
 
     from sklearn_gpca import GPCAClustering, PowerFactorization
 
+    if n_motions != "auto":
+        return make_pipeline(
+            PowerFactorization(rank, random_state=random_state),
+            GPCAClustering(n_motions, random_state=random_state),
+        )
+    wide = max(min(4 * AUTO_MAX_MOTIONS, *shape), rank)
     return make_pipeline(
-        PowerFactorization(rank, random_state=random_state),
-        GPCAClustering(n_motions, random_state=random_state),
+        PowerFactorization(wide, whiten=False, random_state=random_state),
+        GPCAClustering(
+            "auto",
+            segmentation_dim=rank,
+            max_clusters=AUTO_MAX_MOTIONS,
+            random_state=random_state,
+        ),
     )
 
 
 def _fit(X, n_motions, rank, random_state):
-    """Fitted pipeline and labels; ``n_motions="auto"`` lets GPCAClustering
-    choose ``1 .. AUTO_MAX_MOTIONS`` by coding length."""
-    pipeline = _pipeline(n_motions, rank, random_state)
-    if n_motions == "auto":
-        pipeline[-1].set_params(max_clusters=AUTO_MAX_MOTIONS)
+    """Fitted pipeline and labels."""
+    pipeline = _pipeline(n_motions, rank, random_state, X.shape)
     return pipeline, pipeline.fit_predict(X)
+
+
+def _described(pipeline, n_motions):
+    """``make_pipeline(PowerFactorization(...), GPCAClustering(...))`` as fitted."""
+    projection, clustering = pipeline[0], pipeline[-1]
+    rank = f"n_components={projection.n_components}"
+    if not projection.whiten:
+        rank += ", whiten=False"
+    segmented = f"n_clusters={n_motions}"
+    if clustering.segmentation_dim is not None:
+        segmented += f", segmentation_dim={clustering.segmentation_dim}"
+    return f"make_pipeline(PowerFactorization({rank}), GPCAClustering({segmented}))"
 
 
 def _check_destination(path, option, source, force):
@@ -238,11 +264,7 @@ def _segment(args):
     if args.plot is not None:
         _plot_segmentation(X, labels, y, args.plot)
 
-    print(
-        f"Segmenting {args.file}\n"
-        f"  make_pipeline(PowerFactorization(n_components={args.rank}), "
-        f"GPCAClustering(n_clusters={n_motions}))\n"
-    )
+    print(f"Segmenting {args.file}\n  {_described(pipeline, n_motions)}\n")
     motions = f"{n_motions}"
     if args.n_motions == "auto":
         bits = pipeline[-1].n_clusters_costs_
@@ -394,7 +416,9 @@ def build_parser(prog=None):
         required=True,
         metavar="N",
         help="number of motions, or 'auto' to choose among 1..5 by "
-        "GPCAClustering(n_clusters='auto') (shortest coding length)",
+        "GPCAClustering(n_clusters='auto') (shortest coding length of the "
+        "trajectories in an unwhitened projection of rank 20, segmented in its "
+        "leading R directions)",
     )
     segment.add_argument(
         "--rank",

@@ -281,13 +281,15 @@ def distinct_coding_length_cost(points, labels):
 
 def trajectory_coding_length(points, labels):
     """:func:`trajectory_coding_length_cost` without the input checks."""
-    n_samples, n_features = points.shape
+    unit = unit_rows(points)
+    n_samples, n_features = unit.shape
     width = min(n_features, max(n_samples // POINTS_PER_DIMENSION, 1))
     if width < n_features:
-        # leading principal directions, not centred: the subspaces are linear
-        _, _, components = np.linalg.svd(points, full_matrices=False)
-        points = points @ components[:width].T
-    return coding_length(unit_rows(points), labels, TRAJECTORY_DISTORTION)
+        # leading principal directions of the unit trajectories, not centred:
+        # the subspaces are linear
+        _, _, components = np.linalg.svd(unit, full_matrices=False)
+        unit = unit_rows(unit @ components[:width].T)
+    return coding_length(unit, labels, TRAJECTORY_DISTORTION)
 
 
 def trajectory_coding_length_cost(points, labels):
@@ -307,10 +309,12 @@ def trajectory_coding_length_cost(points, labels):
     variance, so perspective and tracking errors weigh as much as the
     motions, and two of three motions often lie near one hyperplane; in the
     wider unwhitened projection they keep their small weight. With few
-    points the code of each group's Gaussian dominates: the points are first
-    projected on their ``n_samples // 4`` leading principal directions (not
-    centred) when there are fewer than 4 points per dimension
-    (``POINTS_PER_DIMENSION``).
+    points the code of each group's Gaussian dominates: the unit points are
+    first projected on their ``n_samples // 4`` leading principal directions
+    (not centred) and scaled back to unit length when there are fewer than 4
+    points per dimension (``POINTS_PER_DIMENSION``). The cost depends only on
+    the directions of the trajectories and on the partition: not on their
+    lengths, an orthogonal change of coordinates or the names of the groups.
 
     Parameters
     ----------

@@ -100,6 +100,13 @@ def _check_tracks(X, n_motions):
             "X must hold [x_1, y_1, ..., x_F, y_F] per row: an even number of "
             f"columns >= 2, got {n_features}."
         )
+    if n_features == 2 and n_motions > 1:
+        warnings.warn(
+            "X holds a single frame: one position per track shows no motion, so "
+            "the tracks are grouped by position only; give at least two frames.",
+            UserWarning,
+            stacklevel=3,
+        )
     if np.isinf(X).any():
         raise ValueError("X contains infinite values; use NaN for missing entries.")
     empty = np.flatnonzero(np.isnan(X).all(axis=1))
@@ -453,6 +460,13 @@ def segment_motions(
         RMS used); with ``outlier_threshold``, these describe the tracks that
         pass the test, and ``outlier_pvalues`` and ``outliers`` (mask of the
         ``-1``) are added.
+
+    Warns
+    -----
+    UserWarning
+        When ``X`` holds a single frame (two columns) and ``n_motions > 1``:
+        one position per track shows no motion, so the tracks can only be
+        grouped by position.
 
     Examples
     --------

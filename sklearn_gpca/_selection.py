@@ -14,7 +14,7 @@ only neighbourhoods; with randomized voting (:mod:`sklearn_gpca._voting`)
 the normalised cut on the vote graph, whose edges join points that many
 K-subspaces runs put together anywhere on the sphere, is added to it: a
 candidate merging two subspaces that the kNN graph barely separates cuts
-through many votes. The vote cut may be weighted by the vote graph's
+through many votes. The vote cut is weighted (by default) by the vote graph's
 confidence (:func:`~sklearn_gpca._voting.vote_confidence`): when the runs
 split the points each their own way, no labelling cuts the vote graph much
 below chance, and the small differences between the candidates' vote cuts

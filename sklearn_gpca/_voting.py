@@ -23,9 +23,11 @@ reach one segmentation, small when each run splits the points its own way.
 import math
 
 import numpy as np
+import scipy.linalg
 import scipy.sparse as sp
 
 from sklearn_gpca._chunks import row_chunks
+from sklearn_gpca._threads import one_thread
 
 # Fit/assign rounds of each voting run after its first assignment (not tuned:
 # plain K-subspaces settles within a few rounds).
@@ -217,7 +219,9 @@ def vote_confidence(features, n_clusters):
     votes cut about ``n - 1``. The confidence ``mean(l_2 .. l_n)`` is one
     minus that bound over ``n - 1``: 1 when all runs agree on one
     segmentation (the graph has ``n`` components), near 0 when they split
-    the points independently of each other. Time ``O(P (R n)^2)``.
+    the points independently of each other. Time ``O(m^2 M + m^3)`` with
+    ``m = min(P, R n)`` and ``M = max(P, R n)``: the top ``n`` eigenvalues of
+    the smaller Gram matrix of ``D^{-1/2} B``.
 
     Parameters
     ----------
@@ -253,6 +257,17 @@ def vote_confidence(features, n_clusters):
             f"min(features.shape)={min(features.shape)}."
         )
     scaled = features / np.sqrt(degrees)[:, None]
-    # singular values of D^{-1/2} B: square roots of the eigenvalues of N
-    values = np.linalg.svd(scaled, compute_uv=False)[:n_clusters] ** 2
-    return float(np.clip(values[1:].mean(), 0.0, 1.0))
+    # N = S S^T with S = D^{-1/2} B shares its non-zero eigenvalues with the
+    # Gram matrix on the smaller side of S; only the top n are computed
+    # one BLAS thread: a small problem, run once per fit (see _threads)
+    with one_thread("blas"):
+        gram = (
+            scaled @ scaled.T
+            if scaled.shape[0] <= scaled.shape[1]
+            else scaled.T @ scaled
+        )
+        size = gram.shape[0]
+        values = scipy.linalg.eigvalsh(
+            gram, subset_by_index=[size - n_clusters, size - 1]
+        )
+    return float(np.clip(values[:-1].mean(), 0.0, 1.0))

@@ -115,15 +115,30 @@ def test_read_mat_uses_y_without_x(tmp_path, motions):
     assert y_read is None
 
 
+def _distinct_motions(n, *, n_per=60, n_frames=10, seed=0):
+    """Trajectories on ``n`` random 4-D subspaces of R^(2 n_frames): for
+    ``n <= n_frames / 2`` their union is direct, so each is a motion of its
+    own and ``n`` is the number to find."""
+    rng = np.random.RandomState(seed)
+    bases = [np.linalg.qr(rng.randn(2 * n_frames, 4))[0] for _ in range(n)]
+    X = np.vstack([rng.randn(n_per, 4) @ B.T for B in bases])
+    return X + 1e-3 * rng.randn(*X.shape), np.repeat(np.arange(n), n_per)
+
+
 def test_segment_auto_and_plot(tmp_path, capsys):
     pytest.importorskip("matplotlib")
-    X, y = make_motions(3, n_points=[60, 60, 60], n_frames=8, random_state=0)
+    X, y = _distinct_motions(3)
     path = write_npz(tmp_path / "three.npz", X, y)
     plot = tmp_path / "seg.png"
     status = main(["segment", str(path), "--n-motions", "auto", "--plot", str(plot)])
     assert status == 0
-    rows = summary(capsys.readouterr().out)
+    output = capsys.readouterr().out
+    rows = summary(output)
     assert rows["motions"].startswith("3 (auto, coding length in bits: 1: ")
+    assert (
+        "make_pipeline(PowerFactorization(n_components=20, whiten=False), "
+        "GPCAClustering(n_clusters=3, segmentation_dim=5))"
+    ) in output
     assert plot.stat().st_size > 0
     assert plot.read_bytes()[:4] == b"\x89PNG"
 
@@ -998,9 +1013,11 @@ def test_auto_prints_the_coding_length_of_each_count(tmp_path, capsys):
     path = write_npz(tmp_path / "three.npz", X, y)
     argv = ["segment", str(path), "--n-motions", "auto"]
     rows = summary(elapsed_and_output(capsys, argv)[1])
+    # the counting pipeline: unwhitened rank min(20, 2F, P) = 12, segmented
+    # in its leading 5 directions
     reference = make_pipeline(
-        PowerFactorization(5, random_state=0),
-        GPCAClustering("auto", max_clusters=5, random_state=0),
+        PowerFactorization(12, whiten=False, random_state=0),
+        GPCAClustering("auto", segmentation_dim=5, max_clusters=5, random_state=0),
     ).fit(X)[-1]
     bits = reference.n_clusters_costs_
     chosen = ", ".join(f"{n}: {b:.0f}" for n, b in enumerate(bits, 1) if np.isfinite(b))

@@ -5,6 +5,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from numpy.testing import assert_allclose, assert_array_equal
 from sklearn.model_selection import GridSearchCV
 from sklearn.pipeline import make_pipeline
@@ -98,11 +100,12 @@ def test_grid_search_over_the_wide_pipeline_agrees_with_auto():
 
 
 def test_trajectory_coding_length_codes_few_points_in_fewer_directions():
-    """Below 4 points per dimension the points are coded in their
+    """Below 4 points per dimension the unit points are coded in their
     n_samples // 4 leading (uncentred) principal directions."""
     X, y = _subspaces(2, n_per=20)  # 40 points in R^20: 10 directions
-    _, _, components = np.linalg.svd(X, full_matrices=False)
-    expected = coding_length(unit_rows(X @ components[:10].T), y, TRAJECTORY_DISTORTION)
+    _, _, components = np.linalg.svd(unit_rows(X), full_matrices=False)
+    projected = unit_rows(X) @ components[:10].T
+    expected = coding_length(unit_rows(projected), y, TRAJECTORY_DISTORTION)
     assert_allclose(trajectory_coding_length_cost(X, y), expected)
     X, y = _subspaces(2, n_per=40)  # 80 points: all 20 directions
     expected = coding_length(unit_rows(X), y, TRAJECTORY_DISTORTION)
@@ -138,3 +141,27 @@ def test_predict_needs_the_training_width():
     model = GPCAClustering(2, segmentation_dim=5, random_state=0).fit(X)
     with pytest.raises(ValueError, match="features"):
         model.predict(X[:, :5])
+
+
+@settings(deadline=None, max_examples=25)
+@given(
+    n_groups=st.integers(1, 4),
+    n_per=st.integers(3, 30),
+    scale=st.floats(1e-3, 1e3),
+    seed=st.integers(0, 2**16),
+)
+def test_trajectory_coding_length_is_invariant(n_groups, n_per, scale, seed):
+    """The code depends on the directions of the trajectories and on the
+    partition only: not on their lengths, an orthogonal change of
+    coordinates (the projection's basis) or the names of the groups."""
+    X, y = _subspaces(n_groups, n_per=n_per, seed=seed)
+    rng = np.random.RandomState(seed)
+    rotation = np.linalg.qr(rng.randn(X.shape[1], X.shape[1]))[0]
+    lengths = scale * rng.uniform(0.1, 10.0, size=(X.shape[0], 1))
+    renamed = rng.permutation(n_groups)[y] + 7
+    cost = trajectory_coding_length_cost(X, y)
+    assert_allclose(
+        trajectory_coding_length_cost(lengths * X @ rotation, renamed),
+        cost,
+        rtol=1e-7,
+    )

@@ -8,7 +8,7 @@ from numpy.testing import assert_array_equal
 from scipy import sparse
 
 from sklearn_gpca import PerspectiveClustering
-from sklearn_gpca._perspective import merge_segments
+from sklearn_gpca._perspective import MERGES, merge_segments
 from sklearn_gpca._view_hypotheses import guided_samples
 from sklearn_gpca.datasets import make_tracks
 from sklearn_gpca.metrics import misclassification_rate
@@ -68,26 +68,67 @@ def _votes_of_groups(sizes, n_hyp=6, noise=0.05, seed=0):
     return sparse.csr_array(dense), labels
 
 
-def test_pieces_of_a_dominant_group_merge_back():
+@pytest.mark.parametrize("rule", MERGES)
+def test_pieces_of_a_dominant_group_merge_back(rule):
     votes, labels = _votes_of_groups([60, 12, 8])
     segments = labels.copy()
     # the dominant group cut in three pieces, as the spectral step cuts it
     segments[labels == 0] = np.repeat([0, 3, 4], 20)
-    merged = merge_segments(votes, segments, 3)
+    merged = merge_segments(votes, segments, 3, rule=rule)
     assert_array_equal(merged, labels)
 
 
+def _background_beside_small_motions(seed=0):
+    """Segments 0-2: pieces of a background (20 tracks each) that share 4
+    hypotheses; segment 3: a small motion (10 tracks) that votes for each of
+    those with probability 0.75; segments 4 and 5: halves of another small
+    motion (6 tracks each) whose second half votes for the first half's 4
+    hypotheses with probability 0.25. Every segment also has 4 of its own."""
+    rng = np.random.RandomState(seed)
+    segments = np.repeat(np.arange(6), [20, 20, 20, 10, 6, 6])
+    own = (segments[:, None] == np.repeat(np.arange(6), 4)).astype(float)
+    shared = np.zeros((segments.size, 8))
+    shared[segments < 3, :4] = 1.0
+    shared[segments == 3, :4] = rng.uniform(size=(10, 4)) < 0.75
+    shared[segments == 4, 4:] = 1.0
+    shared[segments == 5, 4:] = rng.uniform(size=(6, 4)) < 0.25
+    truth = np.array([0, 0, 0, 1, 2, 2])[segments]
+    return sparse.csr_array(np.hstack([own, shared])), segments, truth
+
+
+def test_average_linkage_keeps_a_small_motion_beside_a_cut_background():
+    """Greedy association lets the grown background absorb the small motion
+    that shares its votes (the association of a union adds up) before the
+    two weakly linked halves of the other motion merge; average linkage
+    joins the background's pieces, then the halves."""
+    votes, segments, truth = _background_beside_small_motions()
+    average = merge_segments(votes, segments, 3, rule="average")
+    assert misclassification_rate(truth, average) == 0
+    greedy = merge_segments(votes, segments, 3, rule="association")
+    assert misclassification_rate(truth, greedy) > 0.1
+
+
 @settings(max_examples=25, deadline=None)
-@given(seed=st.integers(0, 1000), n_segments=st.integers(3, 8))
-def test_merging_coarsens_the_segments(seed, n_segments):
+@given(
+    seed=st.integers(0, 1000),
+    n_segments=st.integers(3, 8),
+    rule=st.sampled_from(MERGES),
+)
+def test_merging_coarsens_the_segments(seed, n_segments, rule):
     votes, _ = _votes_of_groups([30, 15, 10], noise=0.2, seed=seed)
     rng = np.random.RandomState(seed)
     segments = rng.permutation(np.arange(votes.shape[0]) % n_segments)
-    merged = merge_segments(votes, segments, 3)
+    merged = merge_segments(votes, segments, 3, rule=rule)
     assert set(np.unique(merged)) == {0, 1, 2}
     # every segment ends in one cluster
     for s in range(n_segments):
         assert np.unique(merged[segments == s]).size == 1
+
+
+def test_merge_is_validated():
+    X = np.random.RandomState(0).normal(size=(10, 8))
+    with pytest.raises(ValueError, match=r"'merge' parameter .* must be a str among"):
+        PerspectiveClustering(3, n_segments=6, merge="single").fit(X)
 
 
 def test_n_segments_is_validated():

@@ -237,6 +237,12 @@ def test_segment_motions_info_and_given_init():
     assert misclassification_rate(y, labels) == 0.0
 
 
+def test_segment_motions_warns_on_a_single_frame():
+    X = np.random.default_rng(0).normal(size=(20, 2))
+    with pytest.warns(UserWarning, match="single frame"):
+        segment_motions(X, 2, random_state=0)
+
+
 @pytest.mark.parametrize(
     ("X", "kwargs", "match"),
     [
