@@ -30,8 +30,15 @@ from sklearn_gpca.datasets._track_geometry import (
     track_geometry,
     visible_share,
 )
-from sklearn_gpca.datasets._track_lifetimes import calibrate_lifetime, track_lengths
+from sklearn_gpca.datasets._track_lifetimes import (
+    birth_probabilities,
+    calibrate_lifetime,
+    first_frame_share,
+    track_lengths,
+)
+from sklearn_gpca.datasets._track_outliers import _random_walks
 from sklearn_gpca.datasets._track_scenes import SCENES, make_scene
+from sklearn_gpca.datasets._tracks import _resolve, _track_counts
 
 
 def _still_scene(object_centres, n_frames=2):
@@ -738,3 +745,181 @@ def test_with_one_frame_lifetimes_every_track_is_seen_its_shortest():
     assert np.all(length[y >= 0] == 1)
     assert np.all(length[info.kind == "random_walk"] == 3)
     assert_array_equal(info.end[switching], info.switch_frame[switching] + 3)
+
+
+def test_occluders_hide_what_is_behind_them_in_every_frame_they_exist():
+    """Box 2 (5 m ahead) hides a point of box 1 (12 m ahead) in the frames
+    where it stands in front of it: not in frame 0 (box 2 behind the camera:
+    no silhouette), nor in frame 1 (box 2 at 20 m, behind the point), in
+    frame 2. A background point 0.5 pixel outside box 2's silhouette stays
+    visible, one 0.5 pixel inside is hidden (the silhouette's half-planes are
+    in pixels)."""
+    scene = _still_scene(
+        [
+            [[0, 0, 12], [0, 0, 12], [0, 0, 12]],
+            [[0, 0, -5], [0, 0, 20], [0, 0, 5]],
+        ],
+        n_frames=3,
+    )
+    camera = make_camera("perspective", 100.0, (200, 100), (4.0, 16.0), scene)
+    occluders = make_occluders(scene, camera)
+    front = track_geometry(
+        np.array([[0.1, 0.1, -0.5]]),
+        np.array([[0.0, 0.0, -1.0]]),
+        1,
+        occluders,
+        camera,
+        scene,
+    )
+    assert_array_equal(front.in_view, [[True, True, True]])
+    assert_array_equal(front.visible, [[True, True, False]])
+    # box 2's front face, 4.5 m away in frame 2, ends at 100 + 100 * 0.5 / 4.5
+    edge = 100 * 0.5 / 4.5
+    x = np.array([edge + 0.5, edge - 0.5]) * 10 / 100
+    background = track_geometry(
+        np.column_stack([x, [0.0, 0.0], [10.0, 10.0]]),
+        None,
+        0,
+        occluders,
+        camera,
+        scene,
+    )
+    assert_array_equal(background.visible[:, 2], [True, False])
+
+
+def test_random_walks_reflect_at_the_borders_and_stay_uniform():
+    """A random walk starts at a uniform pixel and is reflected at the image's
+    borders (module docstring): reflection keeps the uniform law, so in every
+    frame the walks of a small image (10 x 6 pixels, steps of 3) are uniform
+    on it, none stuck on a border."""
+    camera = Bunch(width=10.0, height=6.0)
+    n, n_frames = 6000, 8
+    births = np.zeros(n, dtype=np.int64)
+    pixels, _, _ = _random_walks(
+        births, 3.0, camera, n_frames, np.random.default_rng(0)
+    )
+    u = pixels / [10.0, 6.0]
+    assert np.all((u >= 0) & (u < 1))
+    for f in range(n_frames):
+        for axis in range(2):
+            counts = np.histogram(u[:, f, axis], bins=5, range=(0, 1))[0] / n
+            assert_allclose(counts, 0.2, atol=0.03)
+
+
+def test_birth_probabilities_give_frame_zero_its_share():
+    """Frame 0 gets ``first_share``, the later frames the rest in equal parts,
+    with two frames too; one frame gets everything; ``last`` cuts the law
+    after its frame (renormalised)."""
+    assert_allclose(birth_probabilities(2, 0.7), [0.7, 0.3])
+    assert_allclose(birth_probabilities(1, 0.7), [1.0])
+    assert_allclose(birth_probabilities(5, 0.6), [0.6, 0.1, 0.1, 0.1, 0.1])
+    assert_allclose(birth_probabilities(5, 0.6, last=2), [0.75, 0.125, 0.125, 0, 0])
+    # Notes: 1 - missing, or m / (m + F - 1), whose limit is 1 without deaths
+    assert first_frame_share(10, missing=0.3) == pytest.approx(0.7)
+    assert first_frame_share(10, mean_lifetime=9.0) == pytest.approx(0.5)
+    assert first_frame_share(10, mean_lifetime=np.inf) == 1.0
+
+
+class _Shares:
+    """An rng whose Dirichlet draw is given."""
+
+    def __init__(self, shares):
+        self.shares = np.asarray(shares)
+
+    def dirichlet(self, alpha):
+        assert len(alpha) == len(self.shares)
+        return self.shares
+
+
+def test_track_counts_round_the_shares_by_largest_remainder():
+    """Each object gets one track, then the ``extra`` others in proportion to
+    its share, rounded so that the largest fractional parts get the leftover
+    tracks: shares (0.48, 0.17, 0.35) of 10 extra tracks are 4.8, 1.7, 3.5,
+    so 5, 2, 3. One background track is enough; none is refused."""
+    counts, n_outliers = _track_counts(26, 4, 0.5, 0.0, _Shares([0.48, 0.17, 0.35]))
+    assert n_outliers == 0
+    assert_array_equal(counts, [13, 6, 3, 4])
+    counts, _ = _track_counts(20, 2, 0.05, 0.0, _Shares([1.0]))
+    assert_array_equal(counts, [1, 19])
+    with pytest.raises(ValueError, match="gives 0 background tracks"):
+        _track_counts(20, 2, 0.02, 0.0, _Shares([1.0]))
+
+
+def _given(**changes):
+    names = [
+        "n_motions",
+        "n_tracks",
+        "n_frames",
+        "background_fraction",
+        "outlier_fraction",
+        "missing",
+        "mean_lifetime",
+        "focal_length",
+        "image_size",
+        "depth_range",
+        "forward_speed",
+        "frame_rate",
+        "noise",
+    ]
+    return dict(dict.fromkeys(names), **changes)
+
+
+@pytest.mark.parametrize(
+    ("changes", "message"),
+    [
+        (
+            {"missing": 0.5, "mean_lifetime": 10},
+            "Give missing=0.5 or mean_lifetime=10, not both: the mean lifetime is "
+            "calibrated to reach the missing fraction.",
+        ),
+        ({"image_size": "big"}, "image_size must be two positive numbers, got 'big'."),
+        (
+            {"image_size": (0, 480)},
+            "image_size must be two positive numbers, got (0, 480).",
+        ),
+        (
+            {"depth_range": [None, 3]},
+            "depth_range must be two positive numbers, got [None, 3].",
+        ),
+    ],
+)
+def test_resolve_names_the_bad_parameter(changes, message):
+    """The whole message, anchored: not numpy's own error on the way."""
+    with pytest.raises(ValueError, match="^" + re.escape(message) + "$"):
+        _resolve("lab", **_given(**changes))
+
+
+def test_resolve_accepts_small_and_equal_depths():
+    """Any two positive numbers with nearest <= farthest: 0.5 m to 0.5 m is a
+    valid (flat) depth range; the scene's defaults fill the rest."""
+    params = _resolve("lab", **_given(depth_range=(0.5, 0.5), image_size=[64, 48]))
+    assert params["depth_range"] == (0.5, 0.5)
+    assert params["image_size"] == (64.0, 48.0)
+    assert params["n_frames"] == SCENES["lab"]["n_frames"]
+
+
+def test_a_frame_rate_below_the_native_one_spans_the_same_time():
+    """At 10 frames a second a hand-held scene (native 30) takes every third
+    native pose: its 10 frames span 0.9 s, so the camera, without a subject
+    to pan after, walks about ``0.9 * forward_speed`` ahead (20 % smooth speed
+    noise)."""
+    p = SCENES["handheld"]
+    walked = []
+    for seed in range(10):
+        world = make_scene(
+            "handheld",
+            10,
+            0,
+            p["forward_speed"],
+            p["focal_length"],
+            p["image_size"],
+            p["depth_range"],
+            10.0,
+            np.random.default_rng(seed),
+        )
+        assert world.camera_centres.shape == (10, 3)
+        assert world.object_centres.shape == (0, 10, 3)
+        walked.append(
+            np.linalg.norm(world.camera_centres[-1] - world.camera_centres[0])
+        )
+    assert np.mean(walked) == pytest.approx(0.9 * p["forward_speed"], rel=0.15)

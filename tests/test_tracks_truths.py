@@ -398,6 +398,32 @@ def test_handheld_subjects_walk_at_their_kind_s_speed(handheld_subjects):
     assert np.mean(quarter < 2) == pytest.approx(0.5, abs=0.1)
 
 
+def test_handheld_subjects_stand_on_the_ground_ahead_of_the_camera(handheld_subjects):
+    """A subject is a person (half of them), an animal (a fifth), a cyclist or
+    a car (15 % each), told apart by their length (0.3, 1, 1.8, 4.2 m,
+    jittered by 8 %); it stands on the ground, 1.5 m below the camera, in
+    every frame; it starts 5-20 m ahead (uniform: both ends within a metre),
+    within 0.6 of the half field of view of the centre, on either side."""
+    p = SCENES["handheld"]
+    half_fov = p["image_size"][0] / 2 / p["focal_length"]
+    lengths, depth, across = [], [], []
+    for w in handheld_subjects:
+        bottom = w.object_centres[..., 1] + w.object_sizes[:, None, 1] / 2
+        np.testing.assert_allclose(bottom, 1.5, atol=1e-12)
+        lengths.append(w.object_sizes[:, 2])
+        # frame 0: the camera at the origin, heading along z
+        depth.append(w.object_centres[:, 0, 2])
+        across.append(w.object_centres[:, 0, 0] / w.object_centres[:, 0, 2] / half_fov)
+    lengths, depth, across = map(np.concatenate, (lengths, depth, across))
+    kind = np.argmin(np.abs(lengths[:, None] - [0.3, 1.0, 1.8, 4.2]), axis=1)
+    shares = np.bincount(kind, minlength=4) / kind.size
+    np.testing.assert_allclose(shares, [0.5, 0.2, 0.15, 0.15], atol=0.1)
+    assert np.all((depth >= 5) & (depth <= 20))
+    assert depth.min() < 6 and depth.max() > 19
+    assert np.all(np.abs(across) <= 0.6)
+    assert across.min() < -0.5 and across.max() > 0.5
+
+
 def test_handheld_camera_pans_to_keep_the_subject_in_the_middle_third(
     handheld_subjects,
 ):
