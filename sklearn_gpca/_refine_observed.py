@@ -48,7 +48,9 @@ def neighbor_disagreements(labels, neighbors, n_clusters, weights=None):
     return w.sum(axis=1)[:, None] - agree
 
 
-def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=True):
+def assignment_costs(
+    residuals, dofs, labels, n_clusters=None, *, per_cluster=True, relative=True
+):
     """Scale-free data term of the smoothed assignment.
 
     With ``rho_pk = r_pk / dof_pk`` the residual per degree of freedom,
@@ -77,6 +79,10 @@ def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=Tr
         Number of labels (``residuals.shape[1]``).
     per_cluster : bool, default=True
         One scale per cluster, or one for all.
+    relative : bool, default=True
+        Divide the scales by ``s_0`` inside the logarithm. ``False`` gives
+        ``m_p (rho_pk / s_k + log s_k) / median(m)``, whose sums compare
+        across labellings of the same tracks (:func:`refinement_objective`).
 
     Returns
     -------
@@ -100,7 +106,8 @@ def assignment_costs(residuals, dofs, labels, n_clusters=None, *, per_cluster=Tr
                 scales[k] = max(float(np.median(mine)), TINY)
     weight = evidence / max(float(np.median(evidence[has])) if has.any() else 1.0, 1.0)
     costs = np.zeros_like(per_dof)
-    costs[has] = weight[has, None] * (per_dof[has] / scales + np.log(scales / overall))
+    log_scales = np.log(scales / overall) if relative else np.log(scales)
+    costs[has] = weight[has, None] * (per_dof[has] / scales + log_scales)
     return costs
 
 
@@ -164,18 +171,11 @@ def refinement_objective(
         bases.append(basis)
         supports.append(support)
     residuals, dofs = subspace_residuals(X0, mask, bases, supports)
-    costs = assignment_costs(residuals, dofs, labels, per_cluster=per_cluster)
-    # undo the division by the overall misfit s_0: add log s_0 per unit weight
-    evidence = dofs.max(axis=1)
-    has = evidence > 0
-    per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
-    own = per_dof[np.arange(labels.size), labels]
-    usable = has & np.isfinite(own)
-    overall = max(float(np.median(own[usable])) if usable.any() else 1.0, TINY)
-    weight = evidence / max(float(np.median(evidence[has])) if has.any() else 1.0, 1.0)
+    costs = assignment_costs(
+        residuals, dofs, labels, per_cluster=per_cluster, relative=False
+    )
     rows = np.arange(labels.size)
     data = costs[rows, labels]
-    data = np.where(has, data + weight * np.log(overall), 0.0)
     total = float(np.sum(data[np.isfinite(data)]))
     if smoothing > 0:
         disagree = neighbor_disagreements(
