@@ -46,13 +46,7 @@ from scipy import stats
 from sklearn.utils import check_random_state
 
 from sklearn_gpca._rows import TINY
-from sklearn_gpca._two_view import (
-    _apply,
-    _homogeneous,
-    fit_fundamental,
-    normalizing_transforms,
-    sampson_fundamental,
-)
+from sklearn_gpca._two_view import fit_fundamental, sampson_fundamental
 
 #: Median affine deviation (over the frame pairs, in noise deviations) above
 #: which a sequence is treated as strongly perspective.
@@ -70,19 +64,6 @@ _TRUNCATED = 1.0 - 2.0 * CUTOFF * stats.norm.pdf(CUTOFF) / (
     2.0 * stats.norm.cdf(CUTOFF) - 1.0
 )
 _LOG_FLOOR = -700.0
-
-
-def _refit(points1, points2):
-    """Normalised 8-point fundamental matrix of many point pairs (one model)."""
-    T1, T2 = normalizing_transforms(points1), normalizing_transforms(points2)
-    h1 = _homogeneous(_apply(T1, points1))
-    h2 = _homogeneous(_apply(T2, points2))
-    A = (h2[:, :, None] * h1[:, None, :]).reshape(-1, 9)
-    # smallest eigenvector of A^T A: the null vector without an n x n U
-    _, vectors = np.linalg.eigh(A.T @ A)
-    u, s, vt = np.linalg.svd(vectors[:, 0].reshape(3, 3))
-    F = (u * [s[0], s[1], 0.0]) @ vt
-    return (T2.T @ F @ T1)[None]
 
 
 def affine_deviation(points1, points2):
@@ -155,7 +136,7 @@ def epipolar_residuals(points1, points2, n_models, rng):
         support = remaining & (d <= cut)
         if np.count_nonzero(support) < MIN_SUPPORT:
             break
-        F = _refit(points1[support], points2[support])
+        F = fit_fundamental(points1[support][None], points2[support][None])
         d = sampson_fundamental(F, points1, points2)[:, 0]
         if sigma is None:
             inliers = d <= cut

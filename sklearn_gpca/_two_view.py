@@ -80,8 +80,9 @@ def _apply(T, points):
 
 def _null_vectors(A):
     """Right singular vector of the smallest singular value of each ``A``."""
-    # Vt of a (k, m, 9) batch with m < 9 needs full_matrices to reach row 9.
-    _, _, vt = np.linalg.svd(A, full_matrices=True)
+    # Vt of a (k, m, 9) batch with m < 9 needs full_matrices to reach row 9;
+    # with m >= 9 the reduced SVD has all 9 rows and no (m, m) factor.
+    _, _, vt = np.linalg.svd(A, full_matrices=A.shape[-2] < A.shape[-1])
     return vt[..., -1, :].reshape((*A.shape[:-2], 3, 3))
 
 
