@@ -14,7 +14,10 @@ against the ground truth:
     same in ``R^5`` with hyperplanes (the graph the default builds to select);
 (b) full-space smoothed K-subspaces (:func:`refine_full_space`, 4-D
     subspaces, smoothing 1, neighbours by angle between the complete tracks)
-    as the refinement of every candidate, and from the truth;
+    as the refinement of every candidate, and from the truth; and the same
+    with the settings of :func:`segment_motions` (``refine_observed``: one
+    misfit scale per motion, smoothing 3 on the 10 nearest tracks, each
+    weighted by the motion affinity of the two tracks);
 (c) selection rules on the default's six candidates plus ``rvW``: the
     default (kNN cut + confidence x cut on the ``R^5`` vote graph, fit gate
     3), the cut on the wide vote graph instead or in addition, the wide vote
@@ -46,6 +49,9 @@ from scipy.stats import spearmanr
 from threadpoolctl import threadpool_limits
 
 from sklearn_gpca import PowerFactorization, gpca, k_subspaces
+from sklearn_gpca._observed_subspaces import observed_entries
+from sklearn_gpca._refine_observed import refine_observed, refinement_objective
+from sklearn_gpca._segment import track_graph
 from sklearn_gpca._selection import FIT_GATE, candidate_residuals
 from sklearn_gpca._spectral import spectral_clustering_lowrank
 from sklearn_gpca._voting import (
@@ -111,13 +117,31 @@ def vote_graph(points, n_clusters, n_local, n_runs, dim, rng):
     return vote_features(runs, n_clusters)
 
 
+def weighted_refiner(X):
+    """Full-space refinement with the settings of :func:`segment_motions`:
+    one misfit scale per motion, smoothing 3 on the 10 nearest tracks, each
+    neighbour weighted by how alike the two tracks move. Returns the
+    refinement and the objective it descends (comparable across labellings)."""
+    X0, mask = observed_entries(X)
+    rng = np.random.RandomState(0)
+    neighbors, _, _, weights = track_graph(X0, mask, 10, random_state=rng)
+    graph = dict(neighbors=neighbors[:, : weights.shape[1]], neighbor_weights=weights)
+    refine = lambda labels, n: refine_observed(  # noqa: E731
+        X0, mask, labels, n, random_state=rng, **graph
+    )[0]
+    objective = lambda labels, n: refinement_objective(  # noqa: E731
+        X0, mask, labels, n, **graph
+    )
+    return refine, objective
+
+
 def _rho(values, errors):
     if np.ptp(errors) == 0 or np.ptp(values) == 0 or not np.all(np.isfinite(values)):
         return np.nan
     return spearmanr(values, errors).statistic
 
 
-def criteria(labels_list, *, X, unit5, graph, B5, BW, n):
+def criteria(labels_list, *, X, unit5, graph, B5, BW, n, objective):
     """Each selection rule's value for each labelling (lower is kept)."""
     conf5, confW = vote_confidence(B5, n), vote_confidence(BW, n)
     kc = np.array([normalized_cut(graph, c, n) for c in labels_list])
@@ -136,6 +160,9 @@ def criteria(labels_list, *, X, unit5, graph, B5, BW, n):
         "wide vote cut alone": vW,
         "kNN cut alone": kc + gate,
         "full-space residual (4-D)": full,
+        "weighted refinement objective": np.array(
+            [objective(c, n) for c in labels_list]
+        ),
     }
 
 
@@ -151,6 +178,7 @@ def run_one(bunch, seeds, n_votes):
     unit5, local = unit_rows(Z), result.local_neighbors
     graph, six = result.selection_graph, list(result.candidate_labels)
     truth = np.unique(y, return_inverse=True)[1]
+    weighted, objective = weighted_refiner(X)
     row = dict(
         name=bunch.name,
         n=n,
@@ -158,6 +186,8 @@ def run_one(bunch, seeds, n_votes):
         truth_r5=error(k_subspaces(unit5, truth, n, neighbors=local)[0]),
         truth_full=error(refine_full_space(X, truth, X, random_state=0)[0]),
         kept_full=error(refine_full_space(X, result.labels, X, random_state=0)[0]),
+        truth_weighted=error(weighted(truth, n)),
+        kept_weighted=error(weighted(result.labels, n)),
         t_default=t_default,
         seeds={},
     )
@@ -177,7 +207,12 @@ def run_one(bunch, seeds, n_votes):
         for c in cands:
             refined.append(refine_full_space(X, c, X, random_state=0)[0])
         t_full = (time.perf_counter() - t0) / len(cands)
-        context = dict(X=X, unit5=unit5, graph=graph, B5=B5, BW=BW, n=n)
+        t0 = time.perf_counter()
+        weighted_refined = [weighted(c, n) for c in cands]
+        t_weighted = (time.perf_counter() - t0) / len(cands)
+        context = dict(
+            X=X, unit5=unit5, graph=graph, B5=B5, BW=BW, n=n, objective=objective
+        )
 
         row["seeds"][seed] = dict(
             rvW=error(rvW),
@@ -186,6 +221,9 @@ def run_one(bunch, seeds, n_votes):
             refined=np.array([error(c) for c in refined]),
             crit=criteria(cands, **context),
             crit_refined=criteria(refined, **context),
+            weighted=np.array([error(c) for c in weighted_refined]),
+            crit_weighted=criteria(weighted_refined, **context),
+            t_weighted=t_weighted,
             t_rvw=t_rvw,
             t_full=t_full,
         )
@@ -228,6 +266,7 @@ def main():
     per_row = lambda key: [[r[key] for r in rows]]  # noqa: E731
     errs = [np.array(e) for e in per("errors")]  # (seed) -> (P, 7)
     refd = [np.array(e) for e in per("refined")]
+    wrefd = [np.array(e) for e in per("weighted")]
     lines = [
         "# Randomized voting in a wider space, full-space refinement, selection",
         "",
@@ -253,14 +292,23 @@ def main():
         ("six + rvW, each refined in R^{2F}: best", [e.min(1) for e in refd]),
         ("the kept candidate refined in R^{2F}", [[r["kept_full"] for r in rows]]),
         ("rvW refined in R^{2F}", [e[:, 6] for e in refd]),
+        ("six + rvW, each refined in R^{2F} weighted: best", [e.min(1) for e in wrefd]),
+        ("the kept candidate refined in R^{2F} weighted", per_row("kept_weighted")),
+        ("rvW refined in R^{2F} weighted", [e[:, 6] for e in wrefd]),
         ("smoothed K-subspaces in R^5 from the truth", per_row("truth_r5")),
         ("smoothed K-subspaces in R^{2F} from the truth", per_row("truth_full")),
+        ("the same, weighted, from the truth", per_row("truth_weighted")),
     ]
     for name, values in table:
         lines.append(f"| {name} | " + " | ".join(_spread(values, n)) + " |")
     for title, key, source in (
         ("Selection among the six + rvW", "crit", errs),
         ("Selection among the six + rvW, each refined in R^{2F}", "crit_refined", refd),
+        (
+            "Selection among the six + rvW, each refined in R^{2F} weighted",
+            "crit_weighted",
+            wrefd,
+        ),
     ):
         lines += [
             "",
@@ -294,6 +342,7 @@ def main():
     t_default = np.array([r["t_default"] for r in rows])
     t_rvw = np.array(per("t_rvw"))
     t_full = np.array(per("t_full"))
+    t_weighted = np.array(per("t_weighted"))
     lines += [
         "",
         "## Time (ratios to the default pipeline, same process, one thread)",
@@ -306,6 +355,9 @@ def main():
         "| full-space refinement of one candidate | "
         f"{np.median(t_full / t_default):.2f} | "
         f"{np.median(t_full) / np.median(t_default):.2f} |",
+        "| weighted full-space refinement of one candidate | "
+        f"{np.median(t_weighted / t_default):.2f} | "
+        f"{np.median(t_weighted) / np.median(t_default):.2f} |",
         "",
         "## The failing sequences",
         "",
