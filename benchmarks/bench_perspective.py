@@ -60,10 +60,12 @@ other rules measured there and rejected (model-fit greedy merges of the
 segments by two-view and windowed-subspace F-tests, and by rank-4 subspaces
 of the whole sequence on observed entries; a robust background fit peeled
 off first; divisive normalised cuts; threshold and global-sample votes;
-selection by normalised cut, ratio cut, modularity, two-view residuals);
-seeds 0-4 (this table) and 5-9 were run once, after that choice: it held
-on the wide-angle setting, not on driving 3 motions seeds 0-4 nor on 5
-motions, so the default stays ``partition="spectral"``.
+selection by normalised cut, ratio cut, modularity, two-view residuals;
+exploratory scripts, not committed; the best on 5 motions, divisive
+normalised cuts, erred 28.8 % there but 12.5 % on 3 motions, default 10.7
+%); seeds 0-4 (this table) and 5-9 were run once, after that choice: it
+held on the wide-angle setting, not on driving 3 motions seeds 0-4 nor on
+5 motions, so the default stays ``partition="spectral"``.
 Writes ``benchmarks/results/perspective.md``.
 """
 
