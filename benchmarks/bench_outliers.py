@@ -4,6 +4,9 @@ Draws of :func:`sklearn_gpca.datasets.make_tracks` with 10 % outlier tracks
 (drift, jump and random-walk tracks, see ``datasets/_track_outliers.py``) in
 three scenes, ``--draws`` seeds each. For every draw:
 
+- *ceiling*: each track tested once, on its whole observed span, against
+  the subspaces of the motions' noise-free trajectories with the true noise
+  (``_ceiling``): the recall no subspace test can beat at ``THRESHOLD``;
 - *oracle, old test*: the test of issue 17's first version with the true
   subspaces (4-D, fitted to the true groups): a track is an outlier when its
   residual per degree of freedom to every motion exceeds 20 times the
@@ -43,6 +46,7 @@ from pathlib import Path
 import numpy as np
 from _tables import markdown_table, write_markdown
 from joblib import Parallel, delayed
+from scipy import stats
 from threadpoolctl import threadpool_limits
 
 from sklearn_gpca import segment_motions
@@ -78,6 +82,9 @@ OUTLIER_FRACTION = 0.1
 #: chosen on handheld seeds 0-2 with the true labels: 1e-2 flagged inliers,
 #: 1e-4 lost drifts; the local test was tuned at this value).
 THRESHOLD = 1e-3
+#: Noise-free trajectories' misfit (in noise variances per coordinate) below
+#: which the ceiling's subspace dimension is enough.
+CEILING_BEND = 0.1
 #: The old test's threshold (times the median misfit).
 OLD_THRESHOLD = 20.0
 KINDS = ("drift", "jump", "random_walk")
@@ -95,6 +102,92 @@ def _old_oracle(X, y):
         X0, mask, [b for b, _ in fits], [s for _, s in fits]
     )
     return misfit_ratios(residuals, dofs, y) > OLD_THRESHOLD
+
+
+def _true_residuals(clean, x, cols, labels):
+    """Residual of ``x`` (rows) on ``cols`` to each motion's true subspace.
+
+    The subspace of motion ``k`` is that of its inliers' noise-free
+    trajectories (``clean``, whitened) over ``cols``, of the smallest
+    dimension >= 4 in which they leave less than ``CEILING_BEND`` noise
+    variance per coordinate. Returns ``(residuals, dims)`` of shape
+    (n_rows, n_motions); ``inf`` residual for a motion with too few tracks
+    there, 0 where its subspace leaves no degree of freedom.
+    """
+    n_cols = cols.stop - cols.start
+    motions = np.unique(labels[labels >= 0])
+    residuals = np.full((x.shape[0], motions.size), np.inf)
+    dims = np.zeros(motions.size, dtype=np.intp)
+    for j, k in enumerate(motions):
+        fit = clean[labels == k, cols]
+        fit = fit[np.all(np.isfinite(fit), axis=1)]
+        if fit.shape[0] < 5:
+            continue
+        _, values, vt = np.linalg.svd(fit, full_matrices=False)
+        bend = np.cumsum((values**2)[::-1])[::-1] / (fit.shape[0] * n_cols)
+        order = np.arange(values.size)
+        good = (order >= min(4, n_cols)) & (bend < CEILING_BEND)
+        dims[j] = int(order[good][0]) if good.any() else values.size
+        if n_cols - dims[j] <= 0:
+            # the motion's subspace fills the coordinates: every track fits
+            residuals[:, j] = 0.0
+        else:
+            xc = x[:, cols]
+            projected = ((xc @ vt[: dims[j]].T) ** 2).sum(axis=1)
+            residuals[:, j] = (xc * xc).sum(axis=1) - projected
+    return residuals, dims
+
+
+def _ceiling(X, y, info):
+    """Tests with the true motions and the true noise: the ceilings.
+
+    Each track is tested once, on all its observed frames, against the
+    subspace of each motion's noise-free trajectories (``info.X_complete`` of
+    its inliers, see ``_true_residuals``), after whitening by the true noise
+    (its deviation differs between x and y in normalised units): flagged
+    (``whole``) when its best motion's ``P(chi^2(dof) >= r)`` is below
+    ``THRESHOLD``. A drift or jump is also given its true switch frame
+    (``switch``): the likelihood ratio of "one motion throughout" against
+    "one motion before the switch, one after", ``r_whole - r_before -
+    r_after`` (best motions each), ``chi^2(d)`` under the first; flagged when
+    either test rejects at ``THRESHOLD / 2``.
+    """
+    X0, _ = observed_entries(X)
+    noise = np.tile(np.asarray(info.noise, dtype=float), X.shape[1] // 2)
+    white = X0 / noise
+    clean = info.X_complete / noise
+    whole = np.zeros(X.shape[0])
+    dof = np.ones(X.shape[0])
+    spans = np.column_stack([info.birth, info.end])
+    for birth, end in np.unique(spans, axis=0):
+        rows = np.flatnonzero((info.birth == birth) & (info.end == end))
+        cols = slice(2 * birth, 2 * end)
+        residuals, dims = _true_residuals(clean, white[rows], cols, y)
+        best = np.argmin(residuals, axis=1)
+        whole[rows] = residuals[np.arange(rows.size), best]
+        dof[rows] = 2 * (end - birth) - dims[best]
+    finite = np.isfinite(whole) & (dof > 0)
+    log_whole = np.where(
+        finite, stats.chi2.logsf(np.where(finite, whole, 0), np.maximum(dof, 1)), 0
+    )
+    flagged_whole = log_whole < np.log(THRESHOLD)
+    log_switch = np.zeros(X.shape[0])
+    for row in np.flatnonzero(info.switch_frame >= 0):
+        birth, end, s = info.birth[row], info.end[row], info.switch_frame[row]
+        x = white[row : row + 1]
+        parts = [
+            _true_residuals(clean, x, cols, y)[0].min()
+            for cols in (slice(2 * birth, 2 * s + 2), slice(2 * s + 2, 2 * end))
+        ]
+        r_all, d_all = _true_residuals(clean, x, slice(2 * birth, 2 * end), y)
+        k = np.argmin(r_all[0])
+        ratio = r_all[0, k] - sum(parts)
+        if np.isfinite(ratio):
+            log_switch[row] = stats.chi2.logsf(max(ratio, 0.0), max(d_all[k], 1))
+    flagged_switch = (log_whole < np.log(THRESHOLD / 2)) | (
+        log_switch < np.log(THRESHOLD / 2)
+    )
+    return flagged_whole, flagged_switch
 
 
 def _window_oracle(X, y):
@@ -143,6 +236,9 @@ def run_one(setting, seed, threads):
         warnings.simplefilter("ignore")
         row["old_oracle"] = _scores(_old_oracle(X, y), *scored)
         row["oracle"] = _scores(_window_oracle(X, y), *scored)
+        whole, switch = _ceiling(X, y, info)
+        row["ceiling"] = _scores(whole, *scored)
+        row["switch_ceiling"] = _scores(switch, *scored)
         start = time.perf_counter()
         labels = segment_motions(X, n, outlier_threshold=THRESHOLD, random_state=0)
         row["time"] = time.perf_counter() - start
@@ -172,6 +268,8 @@ def _ratio(rows, key, sub):
 def summary_table(rows):
     header = [
         "setting (draws)",
+        "ceiling, true motions and noise: precision / recall",
+        "ceiling, also the true switch: precision / recall",
         "old test, true subspaces: precision / recall",
         "window test, true labels: precision / recall",
         "segment_motions: precision / recall",
@@ -189,7 +287,13 @@ def summary_table(rows):
                 f"{setting} ({len(mine)})",
                 *[
                     _mean(mine, k, "precision") + " / " + _mean(mine, k, "recall")
-                    for k in ("old_oracle", "oracle", "method")
+                    for k in (
+                        "ceiling",
+                        "switch_ceiling",
+                        "old_oracle",
+                        "oracle",
+                        "method",
+                    )
                 ],
                 _mean(mine, "inlier_error", scale=100),
                 _mean(mine, "clean_error", scale=100),
@@ -238,6 +342,8 @@ def recall_table(rows):
     for setting in SETTINGS:
         mine = [r for r in rows if r["setting"] == setting]
         for key, label in [
+            ("ceiling", "ceiling, true motions and noise"),
+            ("switch_ceiling", "ceiling, also the true switch"),
             ("old_oracle", "old test, true subspaces"),
             ("oracle", "window test, true labels"),
             ("method", "segment_motions"),
@@ -276,7 +382,20 @@ def main():
         f"`segment_motions(X, n, outlier_threshold={THRESHOLD:g})` (a "
         "false-alarm probability per track, see its docstring). Precision and "
         "recall of the label -1, mean over the draws; the misclassification "
-        "of the inliers counts an inlier flagged -1 as an error. *old test, "
+        "of the inliers counts an inlier flagged -1 as an error. *ceiling, "
+        "true motions and noise*: each track tested once on its whole "
+        "observed span against the subspace of each motion's noise-free "
+        "trajectories over that span (dimension 4, or more where "
+        f"perspective bends them by {CEILING_BEND:g} noise variance per "
+        "coordinate or more), whitened by the true noise, flagged at the "
+        "same false-alarm probability: what a test that knew the motions "
+        "and the noise would reach (a drift onto a motion that moves like "
+        "its first one fits that motion within the noise and is missed by "
+        "the whole-track test). *ceiling, also the true switch*: a drift or "
+        "jump also tested by the likelihood ratio of one motion throughout "
+        "against one motion before its true switch frame and one after "
+        "(chi-square with the subspace dimension), each test at half the "
+        "threshold. *old test, "
         f"true subspaces*: residual per degree of freedom above {OLD_THRESHOLD:g} "
         "times every motion's median, with the true 4-D subspaces (issue "
         "17's first test). *window test, true labels*: the chi-square test on "

@@ -156,13 +156,32 @@ def local_outlier_pvalues(
     pvalues : ndarray of shape (n_samples,)
         Bonferroni-corrected p-value in ``[0, 1]`` (see module doc); 1 for a
         track that cannot be tested.
+
+    Raises
+    ------
+    ValueError
+        If ``mask`` is not shaped like ``X0``, ``exclude`` does not hold one
+        value per track, or ``window`` is not an integer of 3 frames or more.
     """
     n_samples, n_features = X0.shape
-    starts, width = frame_windows(n_features // 2, window)
+    if mask.shape != X0.shape:
+        raise ValueError(
+            f"mask must have the shape of X0 {X0.shape}, got {mask.shape}."
+        )
+    if isinstance(window, bool) or int(window) != window or window < 3:
+        raise ValueError(f"window must be an integer >= 3 frames, got {window!r}.")
+    if exclude is not None and np.shape(exclude) != (n_samples,):
+        raise ValueError(
+            f"exclude must hold one bool per track ({n_samples}), got shape "
+            f"{np.shape(exclude)}."
+        )
+    starts, width = frame_windows(n_features // 2, int(window))
     frames = np.arange(n_features) // 2
     smallest = np.zeros(n_samples)
     n_tests = np.zeros(n_samples)
-    pool = np.ones(n_samples, dtype=bool) if exclude is None else ~exclude
+    pool = np.ones(n_samples, dtype=bool)
+    if exclude is not None:
+        pool = ~np.asarray(exclude, dtype=bool)
     if np.count_nonzero(pool) < dim + 4:
         return np.ones(n_samples)
     for start in starts:
