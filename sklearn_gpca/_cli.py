@@ -195,15 +195,52 @@ def _pipeline(n_motions, rank, random_state, shape):
     )
 
 
-def _fit(X, n_motions, rank, random_state):
-    """Fitted pipeline and labels."""
-    pipeline = _pipeline(n_motions, rank, random_state, X.shape)
-    return pipeline, pipeline.fit_predict(X)
+def _estimator(args, shape):
+    """The estimator ``--method`` names, with the options given."""
+    from sklearn_gpca import MotionSegmentation, PerspectiveClustering
+
+    if args.method == "pipeline":
+        return _pipeline(args.n_motions, args.rank, args.seed, shape)
+    if args.method == "tracks":
+        return MotionSegmentation(
+            args.n_motions,
+            outlier_threshold=args.outlier_threshold,
+            random_state=args.seed,
+        )
+    return PerspectiveClustering(args.n_motions, random_state=args.seed)
 
 
-def _described(pipeline, n_motions):
-    """``make_pipeline(PowerFactorization(...), GPCAClustering(...))`` as fitted."""
-    projection, clustering = pipeline[0], pipeline[-1]
+def _check_method_options(args):
+    """Refuse options that the chosen ``--method`` does not use."""
+    if args.method == "pipeline":
+        if args.outlier_threshold is not None:
+            raise UsageError("--outlier-threshold needs --method tracks")
+        return
+    if args.rank is not None:
+        raise UsageError(f"--rank applies to --method pipeline, not {args.method}")
+    if args.n_motions == "auto":
+        raise UsageError(
+            f"--n-motions auto needs --method pipeline; give N with {args.method}"
+        )
+    if args.method == "perspective" and args.outlier_threshold is not None:
+        raise UsageError("--outlier-threshold needs --method tracks")
+
+
+def _fit(X, args):
+    """Fitted estimator (pipeline, or one estimator) and labels."""
+    estimator = _estimator(args, X.shape)
+    return estimator, estimator.fit_predict(X)
+
+
+def _described(estimator, n_motions):
+    """The estimator as fitted, as Python code."""
+    if not hasattr(estimator, "steps"):
+        threshold = getattr(estimator, "outlier_threshold", None)
+        options = f"n_clusters={n_motions}"
+        if threshold is not None:
+            options += f", outlier_threshold={threshold:g}"
+        return f"{type(estimator).__name__}({options})"
+    projection, clustering = estimator[0], estimator[-1]
     rank = f"n_components={projection.n_components}"
     if not projection.whiten:
         rank += ", whiten=False"
@@ -237,9 +274,12 @@ def _sizes(labels, n_motions):
 def _segment(args):
     from sklearn_gpca.metrics import misclassification_rate
 
+    _check_method_options(args)
     X, y = read_trajectories(args.file)
     n_points, n_frames = X.shape[0], X.shape[1] // 2
-    if args.rank > X.shape[1]:
+    if args.rank is None:
+        args.rank = 5
+    elif args.rank > X.shape[1]:
         raise UsageError(
             f"--rank {args.rank} exceeds 2 * frames = {X.shape[1]} for {args.file}"
         )
@@ -252,9 +292,11 @@ def _segment(args):
 
     start = time.perf_counter()
     with _shown_warnings(args.prog), _input_errors(f"{args.file}: "):
-        pipeline, labels = _fit(X, args.n_motions, args.rank, args.seed)
+        estimator, labels = _fit(X, args)
     seconds = time.perf_counter() - start
-    n_motions = pipeline[-1].n_clusters_
+    n_motions = (
+        estimator[-1].n_clusters_ if args.method == "pipeline" else args.n_motions
+    )
 
     if args.output is not None:
         try:
@@ -264,10 +306,10 @@ def _segment(args):
     if args.plot is not None:
         _plot_segmentation(X, labels, y, args.plot)
 
-    print(f"Segmenting {args.file}\n  {_described(pipeline, n_motions)}\n")
+    print(f"Segmenting {args.file}\n  {_described(estimator, n_motions)}\n")
     motions = f"{n_motions}"
     if args.n_motions == "auto":
-        bits = pipeline[-1].n_clusters_costs_
+        bits = estimator[-1].n_clusters_costs_
         chosen = ", ".join(
             f"{n}: {b:.0f}" for n, b in enumerate(bits, start=1) if np.isfinite(b)
         )
@@ -400,7 +442,8 @@ def build_parser(prog=None):
         help="segment the trajectories of a .npz, .csv or .mat file",
         description=(
             "Segment trajectories into rigid motions with make_pipeline("
-            "PowerFactorization(R), GPCAClustering(N)). FILE is a .npz (array X "
+            "PowerFactorization(R), GPCAClustering(N)), or the estimator "
+            "--method names. FILE is a .npz (array X "
             "of shape (points, 2 * frames), optional labels y), a .csv or a "
             "Hopkins155-style .mat (field x, else y, of shape 3 x points x "
             f"frames; optional labels s). {CSV_RULES} The labels file has one "
@@ -421,11 +464,30 @@ def build_parser(prog=None):
         "leading R directions)",
     )
     segment.add_argument(
+        "--method",
+        choices=("pipeline", "tracks", "perspective"),
+        default="pipeline",
+        help="pipeline (default): make_pipeline(PowerFactorization(R), "
+        "GPCAClustering(N)), for trajectories with few missing entries; "
+        "tracks: MotionSegmentation(N), for a tracker's output (tracks born "
+        "and lost, 30-70%% missing, tracks of 1-2 frames); perspective: "
+        "PerspectiveClustering(N), for scenes with strong perspective",
+    )
+    segment.add_argument(
         "--rank",
         type=_positive_int,
-        default=5,
+        default=None,
         metavar="R",
-        help="dimension of the projection (default: 5, as in the paper)",
+        help="dimension of the projection of --method pipeline (default: 5, as "
+        "in the paper)",
+    )
+    segment.add_argument(
+        "--outlier-threshold",
+        type=_float_in(0.0, 1.0),
+        default=None,
+        metavar="P",
+        help="with --method tracks: label -1 the tracks that fit no motion, at "
+        "false-alarm probability P per track (e.g. 0.001)",
     )
     segment.add_argument(
         "--output", metavar="LABELS", help="write one label per line to this file"

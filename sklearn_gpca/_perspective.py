@@ -17,6 +17,8 @@ from sklearn.utils._param_validation import Interval, StrOptions
 from sklearn.utils.extmath import randomized_svd
 from sklearn.utils.validation import validate_data
 
+from sklearn_gpca._empty_motions import warn_empty_motions
+from sklearn_gpca._magnitude import in_safe_range
 from sklearn_gpca._missing import describe_indices, masked_to_nan
 from sklearn_gpca._rows import TINY, unit_rows
 from sklearn_gpca._spectral import embedding_kmeans
@@ -271,6 +273,7 @@ def perspective_clustering(
     n_iter : int
         Rounds of the kernel k-means refinement.
     """
+    X, _ = in_safe_range(X)
     rng = check_random_state(random_state)
     kwargs = dict(
         n_hypotheses=n_hypotheses,
@@ -414,6 +417,14 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
         Rounds of the kernel k-means refinement run.
     n_features_in_ : int
         ``2 F`` for ``F`` frames.
+
+    Warns
+    -----
+    UserWarning
+        When some of the ``n_clusters`` labels are not used (e.g. identical
+        tracks); the labels are returned as found, as
+        :class:`~sklearn.cluster.KMeans` does. When some tracks are seen
+        only where too few tracks are co-visible to draw hypotheses.
 
     See Also
     --------
@@ -599,6 +610,7 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
             merge=self.merge,
             random_state=self.random_state,
         )
+        warn_empty_motions(labels, self.n_clusters, X, name="n_clusters")
         silent = np.flatnonzero(np.diff(votes.indptr) == 0)
         if silent.size:
             warnings.warn(

@@ -43,12 +43,14 @@ import numpy as np
 from sklearn.utils import Bunch, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
+from sklearn_gpca._empty_motions import warn_empty_motions
 from sklearn_gpca._fragments import (
     absorb_small_fragments,
     merge_fragments,
     over_segment,
 )
 from sklearn_gpca._hypotheses import local_noise_level
+from sklearn_gpca._magnitude import in_safe_range
 from sklearn_gpca._merge_split import merge_split_search, split_in_two
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._motion_graph import edge_weights, motion_affinity
@@ -343,7 +345,8 @@ def segment_motions(
         Trajectories ``[x_1, y_1, ..., x_F, y_F]``, NaN (or masked) where a
         track is not seen. Any number of frames; every track needs at least
         one observed entry. The result does not depend on the units (the
-        tracks are scaled by the RMS of the observed entries).
+        tracks are scaled by the RMS of the observed entries, after an exact
+        power-of-two rescaling when their magnitude is beyond ``2^{±128}``).
     n_motions : int
         Number of motions.
     init : {"auto", "all", "fragments", "gpca", "votes"} or array-like of \
@@ -466,7 +469,9 @@ def segment_motions(
     UserWarning
         When ``X`` holds a single frame (two columns) and ``n_motions > 1``:
         one position per track shows no motion, so the tracks can only be
-        grouped by position.
+        grouped by position. When some of the ``n_motions`` labels are not
+        used (e.g. identical tracks); the labels are returned as found, as
+        :class:`~sklearn.cluster.KMeans` does.
 
     Examples
     --------
@@ -480,10 +485,10 @@ def segment_motions(
     >>> misclassification_rate(y, labels) < 0.05
     True
     """
-    X = _check_tracks(X, n_motions)
+    X, unit = in_safe_range(_check_tracks(X, n_motions))
     if outlier_threshold is not None:
         # outliers set aside before the candidates (sklearn_gpca._outliers)
-        return screened_segmentation(
+        result = screened_segmentation(
             segment_motions,
             X,
             n_motions,
@@ -499,12 +504,16 @@ def segment_motions(
             max_iter=max_iter,
             random_state=random_state,
         )
+        if return_info:
+            result[1].scale /= unit
+        return result
     random_state = check_random_state(random_state)
     n_samples = X.shape[0]
     X0, mask = observed_entries(X)
     scale = float(np.sqrt(np.mean(X0[mask] ** 2)))
     scale = scale if scale > 0 else 1.0
     X0 = X0 / scale
+    scale /= unit
     if n_samples <= n_motions or (n_motions == 1 and outlier_threshold is None):
         labels = np.arange(n_samples, dtype=np.intp) % n_motions
         if return_info:
@@ -613,6 +622,7 @@ def segment_motions(
         labels, n_moves = _merge_split(
             X0, mask, labels, n_motions, affinity, noise, refine_kwargs
         )
+    warn_empty_motions(labels, n_motions, X)
     if return_info:
         objective_kwargs = {
             key: refine_kwargs[key]

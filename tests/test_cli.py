@@ -1056,7 +1056,14 @@ def test_parser_defaults_and_choices(capsys):
         0,
     )
     segment = parser.parse_args(["segment", "f.npz", "--n-motions", "2"])
-    assert (segment.rank, segment.seed, segment.force) == (5, 0, False)
+    # --rank unset reads as 5 (the paper's) with --method pipeline, the default
+    assert (segment.rank, segment.method, segment.seed, segment.force) == (
+        None,
+        "pipeline",
+        0,
+        False,
+    )
+    assert segment.outlier_threshold is None
     assert (segment.output, segment.plot) == (None, None)
     given = parser.parse_args(
         ["demo", "--noise", "0", "--missing", "0", "--random-state", "7"]

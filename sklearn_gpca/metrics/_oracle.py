@@ -7,6 +7,7 @@ from numbers import Integral
 import numpy as np
 from sklearn.utils._param_validation import Interval, validate_params
 
+from sklearn_gpca._magnitude import in_safe_range
 from sklearn_gpca._missing import masked_to_nan
 from sklearn_gpca._observed_subspaces import (
     fit_observed_subspace,
@@ -86,6 +87,7 @@ def oracle_labels(X, y_true, subspace_dim=4):
     0.013
     """
     X, y_true = _check_oracle_input(X, y_true)
+    X, _ = in_safe_range(X)
     X0, mask = observed_entries(X)
     groups, counts = np.unique(y_true[y_true != -1], return_counts=True)
     labels = np.full(y_true.shape, -1, dtype=y_true.dtype)
