@@ -22,6 +22,10 @@ it lowers the error of the default pipeline on some draws and raises it on
 others, so no estimator applies it by default. Without the smoothing term
 K-subspaces drifts from good starts where the motions are close.
 
+:func:`reassign_full_space` is the step that helps after the default
+pipeline: one assignment in :math:`R^{2F}`, anchored to the starting labels,
+without the :math:`R^5` neighbours (``benchmarks/results/scaling_stages.md``).
+
 Time and memory are ``O(m D d^2 t + P D d^2 n)`` for ``m`` fitted tracks,
 ``t`` rounds, ``P`` tracks of ``D = 2F`` coordinates and ``n`` subspaces of
 dimension ``d``: linear in ``P``.
