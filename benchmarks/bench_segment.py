@@ -163,6 +163,25 @@ def run_one(setting, name, X, y, n, threads, paper):
             row[key] = errors[keep[chosen]]
         # the default: init="all", selection="separability"
         row["segment"] = row["all+separability"]
+        # the peeled starts (init="peel"), alone and pooled with the
+        # default's candidates (same noise and scale: same seed, same graph)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            (peeled, peel_info), row["peel_s"] = _timed(
+                lambda: segment_motions(
+                    X, n, init="peel", random_state=0, return_info=True
+                )
+            )
+        row["peel"] = misclassification_rate(y, peeled)
+        peel_errors = [misclassification_rate(y, r) for r in peel_info.refined]
+        row["peel hindsight"] = min(peel_errors)
+        pooled = select_segmentation(
+            np.concatenate([info.coding_lengths, peel_info.coding_lengths]),
+            np.concatenate([info.ambiguity, peel_info.ambiguity]),
+            selection="separability",
+            tolerance=AMBIGUITY_TOLERANCE,
+        )
+        row["all+peel"] = (errors + peel_errors)[pooled]
         # merge/split moves from the default's segmentation (its refinement
         # from itself is a fixed point): the moves' own time
         (moved, moves_info), row["moves_s"] = _timed(
@@ -227,7 +246,7 @@ def run_outliers(name, X, y, n, threads):
     }
 
 
-def track_draws(n_draws, outlier_fraction=None):
+def track_draws(n_draws, outlier_fraction=None, first_seed=0):
     settings = (
         {OUTLIER_SETTING: TRACK_SETTINGS[OUTLIER_SETTING]}
         if outlier_fraction is not None
@@ -237,7 +256,7 @@ def track_draws(n_draws, outlier_fraction=None):
         extra = (
             {} if outlier_fraction is None else {"outlier_fraction": outlier_fraction}
         )
-        for seed in range(n_draws):
+        for seed in range(first_seed, first_seed + n_draws):
             X, y = make_tracks(**params, **extra, random_state=seed)
             yield setting, f"{setting} #{seed}", X, y, int(np.unique(y[y >= 0]).size)
 
@@ -270,6 +289,21 @@ def _methods(rows):
     methods += [(f"segment_motions, candidate {c} refined", c, None) for c in names]
     methods += [
         ("segment_motions, best refined candidate (hindsight)", "hindsight", None)
+    ]
+    methods += [("segment_motions, init='peel'", "peel", "peel_s")]
+    methods += [
+        (
+            "segment_motions, best peeled start refined (hindsight)",
+            "peel hindsight",
+            None,
+        )
+    ]
+    methods += [
+        (
+            "segment_motions, init='all' and 'peel' candidates, separability",
+            "all+peel",
+            None,
+        )
     ]
     methods += [("(time of segment_motions, init='all')", None, "segment_s")]
     methods += [("default pipeline", "default", "default_s")]
@@ -386,13 +420,16 @@ def main():
     parser.add_argument("--data", default="../shared/data/hopkins155")
     parser.add_argument("--draws", type=int, default=3, help="seeds per setting")
     parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument(
+        "--first-seed", type=int, default=0, help="seeds first-seed .. + draws - 1"
+    )
     parser.add_argument("--subset", type=int, default=1, help="every k-th sequence")
     parser.add_argument("--out", default=None)
     args = parser.parse_args()
     threads = 1 if args.jobs > 1 else None
     tracks = args.setting == "tracks"
     todo = (
-        list(track_draws(args.draws))
+        list(track_draws(args.draws, first_seed=args.first_seed))
         if tracks
         else list(hopkins_sequences(args.setting, args.data))[:: args.subset]
     )
@@ -404,6 +441,7 @@ def main():
     command = (
         f"python benchmarks/bench_segment.py --setting {args.setting}"
         + (f" --draws {args.draws}" if tracks else "")
+        + (f" --first-seed {args.first_seed}" if tracks and args.first_seed else "")
         + f" --jobs {args.jobs}"
         + (f" --subset {args.subset}" if args.subset > 1 else "")
     )
@@ -431,20 +469,24 @@ def main():
     if tracks:
         lines += [
             "Settings (`make_tracks` keyword arguments beside the scene "
-            "defaults, seeds 0 .. draws - 1; outlier tracks removed):",
+            f"defaults, seeds {args.first_seed} .. {args.first_seed + args.draws - 1}"
+            "; outlier tracks removed):",
             "",
         ]
         lines += [f"- {s}: `{p}`" for s, p in TRACK_SETTINGS.items()]
         lines += ["", *tracks_table(rows), "", *criteria_table(rows), ""]
         outlier_rows = Parallel(n_jobs=args.jobs)(
             delayed(run_outliers)(name, X, y, n, threads)
-            for _, name, X, y, n in track_draws(args.draws, outlier_fraction=0.1)
+            for _, name, X, y, n in track_draws(
+                args.draws, outlier_fraction=0.1, first_seed=args.first_seed
+            )
         )
         lines += [
             "## Outliers",
             "",
             f"`make_tracks(..., outlier_fraction=0.1)` of the setting "
-            f"'{OUTLIER_SETTING}', seeds 0 .. {args.draws - 1}, segmented with "
+            f"'{OUTLIER_SETTING}', seeds {args.first_seed} .. "
+            f"{args.first_seed + args.draws - 1}, segmented with "
             f"`outlier_threshold={OUTLIER_THRESHOLD:g}` (label -1). An inlier "
             "flagged -1 counts as an error. The last two columns segment the "
             "same draws with the outlier rows removed.",

@@ -36,7 +36,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     n_clusters : int, default=2
         Number of motions.
 
-    init : {"auto", "all", "fragments", "gpca", "votes"}, default="all"
+    init : {"auto", "all", "fragments", "gpca", "votes", "peel"}, default="all"
         Candidate segmentations (see :func:`segment_motions`).
 
     selection : {"separability", "coding_length"}, default="separability"
@@ -117,7 +117,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
 
     _parameter_constraints: dict = {
         "n_clusters": [Count(1, None, closed="left")],
-        "init": [StrOptions({"auto", "all", "fragments", "gpca", "votes"})],
+        "init": [StrOptions({"auto", "all", "fragments", "gpca", "votes", "peel"})],
         "selection": [StrOptions({"coding_length", "separability"})],
         "merge_split": ["boolean"],
         "subspace_dim": [Count(1, None, closed="left")],

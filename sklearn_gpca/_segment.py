@@ -60,6 +60,7 @@ from sklearn_gpca._observed_subspaces import (
     subspace_residuals,
 )
 from sklearn_gpca._outliers import screened_segmentation
+from sklearn_gpca._peel_starts import peel_candidates
 from sklearn_gpca._refine_observed import refine_observed, refinement_objective
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
@@ -140,13 +141,18 @@ def _nearest_labels(X0, mask, labels, known, n_motions):
     return out
 
 
-def fragment_candidate(X0, mask, affinity, n_motions, noise, *, random_state):
-    """Labels from the fragments route (see :mod:`sklearn_gpca._fragments`)."""
-    n_samples = X0.shape[0]
+def track_fragments(affinity, n_motions, *, random_state):
+    """Spectral over-segmentation of the motion graph, small fragments absorbed."""
+    n_samples = affinity.shape[0]
     n_fragments = max(4 * n_motions, n_samples // TRACKS_PER_FRAGMENT)
     n_fragments = min(n_fragments, n_samples - 1)
     fragments = over_segment(affinity, n_fragments, random_state=random_state)
-    fragments = absorb_small_fragments(affinity, fragments, MIN_FRAGMENT_SIZE)
+    return absorb_small_fragments(affinity, fragments, MIN_FRAGMENT_SIZE)
+
+
+def fragment_candidate(X0, mask, affinity, n_motions, noise, *, random_state):
+    """Labels from the fragments route (see :mod:`sklearn_gpca._fragments`)."""
+    fragments = track_fragments(affinity, n_motions, random_state=random_state)
     if fragments.max() + 1 <= n_motions:
         return fragments
     return merge_fragments(X0, mask, fragments, n_motions, noise)
@@ -305,7 +311,7 @@ def _merge_split(X0, mask, labels, n_motions, affinity, noise, refine_kwargs):
         "X": ["array-like"],
         "n_motions": [Count(1, None, closed="left")],
         "init": [
-            StrOptions({"auto", "all", "fragments", "gpca", "votes"}),
+            StrOptions({"auto", "all", "fragments", "gpca", "votes", "peel"}),
             "array-like",
         ],
         "selection": [StrOptions({"coding_length", "separability"})],
@@ -349,17 +355,22 @@ def segment_motions(
         power-of-two rescaling when their magnitude is beyond ``2^{±128}``).
     n_motions : int
         Number of motions.
-    init : {"auto", "all", "fragments", "gpca", "votes"} or array-like of \
-            shape (n_tracks,), default="all"
+    init : {"auto", "all", "fragments", "gpca", "votes", "peel"} or \
+            array-like of shape (n_tracks,), default="all"
         Candidate segmentations, each refined, one kept by ``selection``:
         ``"all"`` the gpca, fragments and votes routes (see module doc);
         ``"auto"`` the first two (about a third of the time on Hopkins155:
         the votes are the slowest route); ``"fragments"``, ``"gpca"`` or
-        ``"votes"`` one route; an array of labels ``0 .. n_motions - 1`` is
-        refined as it is. The votes are the only route that finds the small
-        objects in front of a perspective background (``make_tracks``
-        driving scenes); see ``benchmarks/results/segment_*.md`` for every
-        combination.
+        ``"votes"`` one route; ``"peel"`` the starts that peel the dominant
+        motion off first (:mod:`sklearn_gpca._peel_starts`: the largest
+        consensus of fragments one subspace fits, at three thresholds, the
+        rest merged into ``n_motions - 1``; not part of ``"all"``: on the
+        ``make_tracks`` draws it did not lower the kept error, see
+        ``benchmarks/results/segment_tracks.md``); an array of labels
+        ``0 .. n_motions - 1`` is refined as it is. The votes are the only
+        route that finds the small objects in front of a perspective
+        background (``make_tracks`` driving scenes); see
+        ``benchmarks/results/segment_*.md`` for every combination.
     selection : {"separability", "coding_length"}, default="separability"
         How the refined candidate is kept: ``"separability"`` the shortest
         coding length among the candidates whose share of *ambiguous* tracks
@@ -548,6 +559,11 @@ def segment_motions(
             )
             if labels is not None:
                 names.append("votes")
+                initial.append(labels)
+        if init == "peel":
+            fragments = track_fragments(affinity, n_motions, random_state=random_state)
+            for name, labels in peel_candidates(X0, mask, fragments, n_motions, noise):
+                names.append(name)
                 initial.append(labels)
         if not initial:
             names.append("fragments")

@@ -1,0 +1,75 @@
+"""segment_motions on long hand-held sequences: make_tracks' own defaults.
+
+Run from the project root (about a minute per draw on a quiet machine)::
+
+    python benchmarks/check_long_tracks.py --seeds 4
+
+``make_tracks(scene="handheld", random_state=seed)`` at the scene's defaults
+(800 tracks, 100 frames, 50 % of the entries missing in windows, 3 motions,
+perspective camera), outlier tracks removed. Prints, per draw, the
+misclassification (%) of ``segment_motions(X, n, random_state=0)``, of each
+of its refined candidates with the value of the two selection criteria
+(``selection="separability"``: the ambiguous fraction, the default;
+``selection="coding_length"``: bits), and of the oracle (nearest true 4-D
+subspace on observed entries). ``bench_segment.py --setting tracks`` measures
+40-frame hand-held draws; this script shows what changes at 100 frames.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import argparse
+import time
+import warnings
+
+import numpy as np
+
+from sklearn_gpca import segment_motions
+from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.metrics import misclassification_rate, oracle_labels
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, default=4)
+    parser.add_argument("--first-seed", type=int, default=0)
+    args = parser.parse_args(argv)
+    print(
+        "| draw | tracks | missing % | default % | candidate: error % "
+        "(ambiguous fraction, coding length kbit) | oracle % | s |"
+    )
+    print("|---|---|---|---|---|---|---|")
+    rows = []
+    for seed in range(args.first_seed, args.first_seed + args.seeds):
+        X, y = make_tracks(scene="handheld", random_state=seed)[:2]
+        X, y = X[y >= 0], y[y >= 0]
+        n = np.unique(y).size
+        start = time.perf_counter()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            labels, info = segment_motions(X, n, random_state=0, return_info=True)
+        seconds = time.perf_counter() - start
+        candidates = [
+            f"{name}: {100 * misclassification_rate(y, r):.1f} ({a:.2f}, {c / 1e3:.0f})"
+            for name, r, a, c in zip(
+                info.candidates,
+                info.refined,
+                info.ambiguity,
+                info.coding_lengths,
+                strict=True,
+            )
+        ]
+        default = 100 * misclassification_rate(y, labels)
+        oracle = 100 * misclassification_rate(y, oracle_labels(X, y))
+        rows.append((default, oracle))
+        print(
+            f"| {seed} | {X.shape[0]} | {100 * np.isnan(X).mean():.0f} | "
+            f"{default:.1f} | {'; '.join(candidates)} | {oracle:.1f} | "
+            f"{seconds:.1f} |",
+            flush=True,
+        )
+    default, oracle = np.mean(rows, axis=0)
+    print(f"\nmean: default {default:.1f} %, oracle {oracle:.1f} %")
+
+
+if __name__ == "__main__":
+    main()
