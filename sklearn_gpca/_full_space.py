@@ -22,6 +22,10 @@ it lowers the error of the default pipeline on some draws and raises it on
 others, so no estimator applies it by default. Without the smoothing term
 K-subspaces drifts from good starts where the motions are close.
 
+:func:`reassign_full_space` is the step that helps after the default
+pipeline: one assignment in :math:`R^{2F}`, anchored to the starting labels,
+without the :math:`R^5` neighbours (``benchmarks/results/scaling_stages.md``).
+
 Time and memory are ``O(m D d^2 t + P D d^2 n)`` for ``m`` fitted tracks,
 ``t`` rounds, ``P`` tracks of ``D = 2F`` coordinates and ``n`` subspaces of
 dimension ``d``: linear in ``P``.
@@ -30,11 +34,16 @@ dimension ``d``: linear in ``P``.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-from sklearn.utils import check_random_state
+from sklearn.utils import check_array, check_random_state
 
 from sklearn_gpca._affinity import sign_invariant_neighbors
 from sklearn_gpca._extension import extension_neighbors
-from sklearn_gpca._observed_subspaces import observed_entries, subspace_residuals
+from sklearn_gpca._missing import masked_to_nan
+from sklearn_gpca._observed_subspaces import (
+    fit_observed_subspace,
+    observed_entries,
+    subspace_residuals,
+)
 from sklearn_gpca._refine_observed import (
     assignment_costs,
     neighbor_disagreements,
@@ -180,3 +189,164 @@ def refine_full_space(
         others[local] = False
         refined[kept[others]] = np.argmin(costs[others], axis=1)
     return refined, bases, n_iter, converged
+
+
+def _fit_groups(X0, mask, labels, n_clusters, dim):
+    """Subspace of each group on its observed entries; None for a group too
+    small to fit."""
+    bases, supports = [], []
+    for k in range(n_clusters):
+        members = np.flatnonzero(labels == k)
+        if members.size <= dim:
+            bases.append(None)
+            supports.append(None)
+            continue
+        basis, support = fit_observed_subspace(X0[members], mask[members], dim)
+        bases.append(basis)
+        supports.append(support)
+    return bases, supports
+
+
+def _data_costs(X0, mask, labels, bases, supports):
+    """:func:`assignment_costs` with one scale; ``inf`` for the groups
+    without a subspace."""
+    fitted = [k for k, basis in enumerate(bases) if basis is not None]
+    residuals = np.full((X0.shape[0], len(bases)), np.inf)
+    dofs = np.zeros((X0.shape[0], len(bases)), dtype=np.intp)
+    residuals[:, fitted], dofs[:, fitted] = subspace_residuals(
+        X0, mask, [bases[k] for k in fitted], [supports[k] for k in fitted]
+    )
+    costs = assignment_costs(residuals, dofs, labels, per_cluster=False)
+    costs[:, [k for k, basis in enumerate(bases) if basis is None]] = np.inf
+    return costs
+
+
+def reassign_full_space(
+    X,
+    labels,
+    *,
+    subspace_dim=4,
+    anchor=1.0,
+    max_fit_samples=20000,
+    n_trim=1,
+    random_state=None,
+):
+    """One full-space assignment of every track, anchored to a segmentation.
+
+    One ``subspace_dim``-dimensional subspace of :math:`R^{2F}` is fitted to
+    the observed entries of each group of ``labels`` (on a uniform subsample
+    of at most ``max_fit_samples`` tracks), and every track takes the label
+    minimising
+
+    ``rho_pk / s + anchor * [k != labels_p]``
+
+    with ``rho_pk`` its residual to subspace ``k`` per residual degree of
+    freedom on its own observed entries, ``s`` the median of ``rho`` over the
+    tracks' own labels and the data term weighted by the track's evidence
+    (:func:`~sklearn_gpca._refine_observed.assignment_costs` with one scale).
+    A track leaves its starting label only when another motion fits it better
+    by more than ``anchor`` typical misfits.
+
+    Why one anchored pass, and not K-subspaces to convergence or a smoothing
+    term: the starting labels of the default pipeline were smoothed in
+    :math:`R^5`, where the motions overlap (three 4-D subspaces in 5
+    dimensions), so neighbours found there mix motions exactly where the
+    full space could separate them, and a smoothing term over them pins
+    their errors. Without the anchor the pass is the nearest fitted subspace,
+    no better than the nearest *true* subspace (``oracle_labels``), which the
+    smoothed start often beats; repeated rounds of hard assignment drift away
+    from the truth (each subspace tilts towards the tracks it wrongly
+    takes). ``benchmarks/results/scaling.md`` measures it.
+
+    It is meant for a start whose errors lie near the boundaries between
+    motions, as the default pipeline's at scale. From labels with gross
+    errors (a tenth of the tracks moved to a random other motion) the
+    least-squares subspaces are pulled towards the wrong tracks and the
+    anchor keeps many of them: :func:`refine_full_space` iterates instead.
+
+    Parameters
+    ----------
+    X : ndarray of shape (n_samples, n_features)
+        Tracks ``[x_1, y_1, ..., x_F, y_F]``, NaN where missing.
+    labels : ndarray of shape (n_samples,)
+        Starting segmentation, ``0 .. n_clusters - 1``; ``-1`` marks tracks
+        left out (outliers), which keep ``-1``.
+    subspace_dim : int, default=4
+        Dimension of every motion subspace (4 for a generic rigid motion seen
+        by an affine camera), clipped to ``n_features - 1``.
+    anchor : float, default=1.0
+        Cost of leaving the starting label, in typical misfits (the median
+        residual per degree of freedom); 0 is the nearest fitted subspace.
+        1.0 was chosen on the ``make_motions`` draws of
+        ``benchmarks/bench_scaling.py`` (draw 0 at 10^3 to 10^6 tracks, draws
+        1 and 2 at 10^4 to 10^5; ``benchmarks/results/scaling_stages.md``):
+        0.5 is better on some of them and worse on others (0.40 -> 0.49 % at
+        10^6), 2 gains less.
+    max_fit_samples : int or None, default=20000
+        Most tracks the subspaces are fitted to (a uniform random subsample);
+        None fits all. Every track is assigned.
+    n_trim : int, default=1
+        Refits of each subspace on only the subsample tracks whose own label
+        is their nearest subspace (a track of another motion pulls a
+        least-squares fit towards it); 0 fits the groups as labelled.
+    random_state : int, RandomState instance or None, default=None
+        Seeds the subsample.
+
+    Returns
+    -------
+    labels : ndarray of shape (n_samples,), dtype=intp
+        The reassigned segmentation.
+    bases : list of ndarray of shape (n_features, d) or None
+        Orthonormal bases of the fitted subspaces, one per label; None for a
+        label with at most ``d`` tracks in the subsample (it keeps its
+        tracks and takes no other).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from sklearn_gpca.datasets import make_motions
+    >>> from sklearn_gpca.metrics import misclassification_rate
+    >>> from sklearn_gpca.stages import reassign_full_space
+    >>> X, y = make_motions(3, n_points=600, n_frames=10, missing=0.1,
+    ...                     random_state=0)
+    >>> labels, bases = reassign_full_space(X, y, random_state=0)
+    >>> float(misclassification_rate(y, labels)) < 0.01, bases[0].shape
+    (True, (20, 4))
+    """
+    if not anchor >= 0:
+        raise ValueError(f"anchor must be a non-negative number, got {anchor!r}.")
+    if int(n_trim) != n_trim or n_trim < 0:
+        raise ValueError(f"n_trim must be a non-negative integer, got {n_trim!r}.")
+    rng = check_random_state(random_state)
+    X = check_array(masked_to_nan(X), dtype=np.float64, ensure_all_finite="allow-nan")
+    X0, mask = observed_entries(X)
+    n_samples, n_features = X0.shape
+    labels = _check_labels(labels, n_samples)
+    n_clusters = int(labels.max()) + 1 if labels.size else 0
+    if n_clusters == 0:
+        return labels, []
+    dim = max(min(subspace_dim, n_features - 1), 1)
+    kept = np.flatnonzero(labels >= 0)
+    sample = kept
+    if max_fit_samples is not None and kept.size > max_fit_samples:
+        sample = np.sort(rng.choice(kept, max_fit_samples, replace=False))
+    members = labels[sample]
+    for _ in range(1 + n_trim):
+        bases, supports = _fit_groups(
+            X0[sample], mask[sample], members, n_clusters, dim
+        )
+        fitted = [k for k in range(n_clusters) if bases[k] is not None]
+        if len(fitted) < 2:
+            return labels.copy(), bases
+        # refit on the tracks whose own label is their nearest subspace: a
+        # track of another motion pulls a least-squares fit towards it
+        nearest = np.argmin(
+            _data_costs(X0[sample], mask[sample], labels[sample], bases, supports),
+            axis=1,
+        )
+        members = np.where(nearest == labels[sample], labels[sample], -1)
+    refined = labels.copy()
+    costs = _data_costs(X0[kept], mask[kept], labels[kept], bases, supports)
+    costs += anchor * (np.arange(n_clusters) != labels[kept][:, None])
+    refined[kept] = np.argmin(costs, axis=1)
+    return refined, bases

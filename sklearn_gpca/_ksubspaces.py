@@ -38,9 +38,11 @@ def smoothed_cost(residuals, scale, neighbor_labels, smoothing):
     """
     cost = residuals / max(scale, TINY)
     if smoothing > 0:
-        classes = np.arange(residuals.shape[1])
-        agree = (neighbor_labels[:, :, None] == classes).sum(axis=1)
-        cost = cost + smoothing * (neighbor_labels.shape[1] - agree)
+        # one count per class: no (n_points, n_local, n_subspaces) temporary
+        n_local = neighbor_labels.shape[1]
+        for k in range(residuals.shape[1]):
+            agree = np.count_nonzero(neighbor_labels == k, axis=1)
+            cost[:, k] += smoothing * (n_local - agree)
     return cost
 
 
@@ -228,11 +230,13 @@ def k_subspaces(
         reseedable -= set(np.unique(refilled[refilled != labels]).tolist())
         labels = refilled
         bases, _ = fit_subspaces(points, labels, *fit)
-        scale = np.median(own_residuals(points, labels, bases))
+        # the residuals give both the scale and the assignment (as
+        # own_residuals and smoothed_assignment would, computed once)
+        residuals = sine_residuals(points, bases)
+        scale = np.median(residuals[np.arange(labels.size), labels])
         neighbor_labels = labels[neighbors] if smoothing > 0 else None
-        new_labels = smoothed_assignment(
-            points, bases, scale, neighbor_labels, smoothing
-        )
+        cost = smoothed_cost(residuals, scale, neighbor_labels, smoothing)
+        new_labels = np.argmin(cost, axis=1).astype(np.intp)
         # synchronous updates of the Potts term can settle into a 2-cycle
         if np.array_equal(new_labels, labels) or np.array_equal(new_labels, previous):
             converged = True

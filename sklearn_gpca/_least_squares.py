@@ -88,12 +88,10 @@ def row_grams(mask, basis):
     """
     r = basis.shape[0]
     upper, lower = _upper_triangle(r)
-    # one product per pair k <= l: the matrices are symmetric
+    # one product per pair k <= l: the matrices are symmetric; one gather
+    # then fills both triangles (faster than two scattered assignments)
     sums = mask @ (basis[upper] * basis[lower]).T
-    gram = np.empty((mask.shape[0], r, r))
-    gram[:, upper, lower] = sums
-    gram[:, lower, upper] = sums
-    return gram
+    return np.take(sums, _symmetric_index(r), axis=1).reshape(-1, r, r)
 
 
 @functools.cache
@@ -104,6 +102,97 @@ def _upper_triangle(r):
     for index in indices:
         index.flags.writeable = False
     return indices
+
+
+@functools.cache
+def _symmetric_index(r):
+    """Position in the upper triangle (:func:`_upper_triangle`) of every entry
+    ``(k, l)`` of an ``r x r`` symmetric matrix, flattened."""
+    upper, lower = _upper_triangle(r)
+    index = np.empty((r, r), dtype=np.intp)
+    index[upper, lower] = index[lower, upper] = np.arange(upper.size)
+    index = index.ravel()
+    index.flags.writeable = False
+    return index
+
+
+def _cholesky_factors(gram):
+    """Lower Cholesky factors ``G = L L^T`` of ``r x r`` matrices, batched.
+
+    Each entry is computed for all matrices at once, in the layout ``(r, r,
+    n)`` (the matrices in the last, contiguous axis): a few dozen vector
+    operations for ``r = 5`` instead of one LAPACK call per matrix.
+
+    Returns
+    -------
+    L : ndarray of shape (r, r, n)
+    ok : ndarray of shape (n,), dtype=bool
+        False where a pivot is not positive in floating point (the matrix is
+        not numerically positive definite): ``L`` is then meaningless.
+    """
+    r = gram.shape[-1]
+    A = np.ascontiguousarray(np.moveaxis(gram, 0, -1))
+    L = np.zeros_like(A)
+    # a non-positive pivot gives NaN; ``ok`` flags those matrices
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for j in range(r):
+            pivot = A[j, j] - np.einsum("kp,kp->p", L[j, :j], L[j, :j])
+            L[j, j] = np.sqrt(pivot)
+            for i in range(j + 1, r):
+                dot = np.einsum("kp,kp->p", L[i, :j], L[j, :j])
+                L[i, j] = (A[i, j] - dot) / L[j, j]
+    diagonal = L[np.arange(r), np.arange(r)]
+    ok = np.all(np.isfinite(diagonal) & (diagonal > 0), axis=0)
+    ok &= np.all(np.isfinite(L), axis=(0, 1))
+    return L, ok
+
+
+def _cholesky_inverses(gram):
+    """Inverses of symmetric positive definite ``r x r`` matrices, batched.
+
+    ``G^{-1} = L^{-T} L^{-1}`` from :func:`_cholesky_factors`, in chunks of
+    rows; matrices that are not numerically positive definite (rank-deficient
+    up to the ridge) are inverted by ``np.linalg.inv`` instead.
+    """
+    inverses = np.empty_like(gram)
+    r = gram.shape[-1]
+    for rows in row_chunks(gram.shape[0]):
+        L, ok = _cholesky_factors(gram[rows])
+        # M = L^{-1}, lower triangular, by forward substitution
+        M = np.zeros_like(L)
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            for j in range(r):
+                M[j, j] = 1.0 / L[j, j]
+                for i in range(j + 1, r):
+                    M[i, j] = -np.einsum("kp,kp->p", L[i, j:i], M[j:i, j]) / L[i, i]
+            chunk = np.einsum("kip,kjp->pij", M, M)
+        bad = ~ok | ~np.all(np.isfinite(chunk), axis=(1, 2))
+        if bad.any():
+            chunk[bad] = np.linalg.inv(gram[rows][bad])
+        inverses[rows] = chunk
+    return inverses
+
+
+def _cholesky_solve(gram, rhs):
+    """``np.linalg.solve(gram, rhs[..., None])[..., 0]`` for symmetric positive
+    definite ``gram`` of shape ``(n, r, r)`` and ``rhs`` of shape ``(n, r)``:
+    :func:`_cholesky_factors`, then forward and back substitution, all
+    matrices at once; ``np.linalg.solve`` where the factor fails."""
+    r = gram.shape[-1]
+    L, ok = _cholesky_factors(gram)
+    b = np.ascontiguousarray(rhs.T)
+    w = np.empty_like(b)
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+        for i in range(r):  # L w = b
+            w[i] = (b[i] - np.einsum("kp,kp->p", L[i, :i], w[:i])) / L[i, i]
+        z = np.empty_like(b)
+        for i in reversed(range(r)):  # L^T z = w
+            z[i] = (w[i] - np.einsum("kp,kp->p", L[i + 1 :, i], z[i + 1 :])) / L[i, i]
+    z = z.T.copy()
+    bad = ~ok | ~np.all(np.isfinite(z), axis=1)
+    if bad.any():
+        z[bad] = np.linalg.solve(gram[bad], rhs[bad][..., None])[..., 0]
+    return z
 
 
 def fit_rows(X0, mask, basis):
@@ -132,8 +221,7 @@ def fit_rows(X0, mask, basis):
         return np.linalg.solve(gram, rhs.T).T
     Z = np.empty_like(rhs)
     for rows in row_chunks(X0.shape[0]):
-        gram = damp(row_grams(mask[rows], basis))
-        Z[rows] = np.linalg.solve(gram, rhs[rows][..., None])[..., 0]
+        Z[rows] = _cholesky_solve(damp(row_grams(mask[rows], basis)), rhs[rows])
     return Z
 
 
@@ -142,4 +230,4 @@ def inverse_row_grams(mask, basis):
 
     Used where the same systems are solved for many right-hand sides.
     """
-    return np.linalg.inv(damp(row_grams(mask, basis)))
+    return _cholesky_inverses(damp(row_grams(mask, basis)))

@@ -15,7 +15,8 @@ Benchmarks and new segmentation routes call them directly:
 6. extension from a subsample: :func:`extension_neighbors`,
    :func:`extend_labels`;
 7. after the pipeline, K-subspaces on the raw tracks' observed entries:
-   :func:`refine_full_space`;
+   :func:`refine_full_space`, or one anchored reassignment
+   :func:`reassign_full_space`;
 
 and the per-cluster subspaces: :func:`fit_subspaces`, :func:`sine_residuals`,
 :func:`unit_rows`.
@@ -26,7 +27,7 @@ and the per-cluster subspaces: :func:`fit_subspaces`, :func:`sine_residuals`,
 from sklearn_gpca._affinity import normalized_cut, sign_invariant_neighbors
 from sklearn_gpca._candidates import candidate_graphs, spectral_candidates
 from sklearn_gpca._extension import extend_labels, extension_neighbors
-from sklearn_gpca._full_space import refine_full_space
+from sklearn_gpca._full_space import reassign_full_space, refine_full_space
 from sklearn_gpca._normals import point_normal_bases
 from sklearn_gpca._polynomials import unit_gradients, vanishing_polynomials
 from sklearn_gpca._rows import unit_rows
@@ -40,6 +41,7 @@ __all__ = [
     "fit_subspaces",
     "normalized_cut",
     "point_normal_bases",
+    "reassign_full_space",
     "refine_full_space",
     "select_candidate",
     "sign_invariant_neighbors",

@@ -80,3 +80,48 @@ def test_points_of_other_tracks():
     X = np.random.RandomState(0).randn(40, 6)
     with pytest.raises(ValueError, match="same tracks"):
         refine_full_space(X, np.zeros(40, dtype=int), X[:30])
+
+
+def test_reassign_without_anchor_from_the_truth_is_the_oracle(motions):
+    from sklearn_gpca.stages import reassign_full_space
+
+    X, y, _ = motions
+    # derived truth: subspaces fitted to the true groups, nearest per degree of
+    # freedom on the observed entries (one common scale: the argmin is the same)
+    labels, bases = reassign_full_space(
+        X, y, anchor=0.0, n_trim=0, max_fit_samples=None, random_state=0
+    )
+    np.testing.assert_array_equal(labels, oracle_labels(X, y))
+    assert len(bases) == 3
+
+
+def test_reassign_with_a_large_anchor_keeps_the_start(motions):
+    from sklearn_gpca.stages import reassign_full_space
+
+    X, y, _ = motions
+    start = _corrupt(y, 0.05)
+    labels, _ = reassign_full_space(X, start, anchor=1e9, random_state=0)
+    np.testing.assert_array_equal(labels, start)
+    moved, _ = reassign_full_space(X, start, anchor=0.0, random_state=0)
+    assert np.any(moved != start)
+
+
+def test_reassign_keeps_outliers_and_checks_parameters(motions):
+    from sklearn_gpca.stages import reassign_full_space
+
+    X, y, _ = motions
+    start = y.copy()
+    start[:40] = -1
+    labels, _ = reassign_full_space(X, start, max_fit_samples=300, random_state=0)
+    assert np.all(labels[:40] == -1)
+    assert set(np.unique(labels[40:])) <= {0, 1, 2}
+    with pytest.raises(ValueError, match="anchor"):
+        reassign_full_space(X, y, anchor=-1.0)
+    with pytest.raises(ValueError, match="n_trim"):
+        reassign_full_space(X, y, n_trim=-1)
+    with pytest.raises(ValueError, match="labels"):
+        reassign_full_space(X, y[:-1])
+    infinite = X.copy()
+    infinite[0, 0] = np.inf
+    with pytest.raises(ValueError, match="infinity"):
+        reassign_full_space(infinite, y)

@@ -133,3 +133,17 @@ def test_no_reseed_when_no_cluster_can_spare_points():
     assert converged
     assert_array_equal(refined, 0)
     assert [b.shape[1] for b in bases] == [4, 0, 0]
+
+
+def test_smoothed_cost_counts_disagreeing_neighbours():
+    from sklearn_gpca._ksubspaces import smoothed_cost
+
+    rng = np.random.RandomState(0)
+    residuals = rng.rand(50, 3)
+    neighbor_labels = rng.randint(3, size=(50, 7))
+    cost = smoothed_cost(residuals, 0.5, neighbor_labels, 2.0)
+    # derived truth: residual / scale + smoothing * #{neighbours labelled != k}
+    expected = residuals / 0.5 + 2.0 * np.array(
+        [[np.sum(row != k) for k in range(3)] for row in neighbor_labels]
+    )
+    np.testing.assert_allclose(cost, expected)
