@@ -63,7 +63,8 @@ from sklearn_gpca.datasets import load_hopkins155, make_missing, make_tracks
 from sklearn_gpca.metrics import misclassification_rate, oracle_labels
 
 #: Realistic make_tracks settings: name -> keyword arguments. Sizes are kept
-#: small enough for a short run (the pipelines' PowerFactorization dominates).
+#: small enough for a short run (the pipelines' PowerFactorization dominates),
+#: but one setting is a long sequence at its scene's defaults.
 TRACK_SETTINGS = {
     "driving, 3 motions": {"scene": "driving"},
     "driving, 4 motions, affine": {
@@ -76,6 +77,8 @@ TRACK_SETTINGS = {
         "n_frames": 40,
         "missing": 0.5,
     },
+    # the scene's own defaults: 800 tracks, 100 frames, 50 % missing
+    "handheld, 3 motions, 100 frames": {"scene": "handheld"},
     "handheld, 5 motions, 40 frames, affine": {
         "scene": "handheld",
         "n_motions": 5,
