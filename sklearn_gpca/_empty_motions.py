@@ -34,9 +34,10 @@ def warn_empty_motions(labels, n_motions, X, *, name="n_motions", stacklevel=4):
         return
     kept = labels >= 0
     observed = ~np.isnan(X[kept])
-    n_distinct = np.unique(np.hstack([np.nan_to_num(X[kept]), observed]), axis=0)
-    if n_distinct.shape[0] < n_motions:
-        reason = f"X has only {n_distinct.shape[0]} distinct tracks"
+    # a track is its observed values and where they are observed
+    distinct = np.unique(np.hstack([np.nan_to_num(X[kept]), observed]), axis=0)
+    if distinct.shape[0] < n_motions:
+        reason = f"X has only {distinct.shape[0]} distinct tracks"
     else:
         reason = (
             f"the tracks support fewer motions; ask for {name}={n_motions - empty.size}"

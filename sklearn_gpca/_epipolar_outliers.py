@@ -159,6 +159,8 @@ def epipolar_outlier_pvalues(X0, mask, n_models, *, gaps=GAPS, random_state=None
         Tracks, zero where missing.
     mask : ndarray of shape (n_samples, 2 * n_frames), dtype=bool
         Observed entries.
+    n_models : int
+        Fundamental matrices fitted per frame pair (the number of motions).
     gaps : tuple of int, default=GAPS
         Frame gaps of the pairs tested.
     random_state : int, RandomState instance or None, default=None
@@ -167,8 +169,12 @@ def epipolar_outlier_pvalues(X0, mask, n_models, *, gaps=GAPS, random_state=None
     Returns
     -------
     pvalues : ndarray of shape (n_samples,)
-        Bonferroni-corrected p-value in ``[0, 1]`` (see module doc); 1 for a
-        track in no tested pair.
+        Bonferroni-corrected p-value in ``[0, 1]`` (see module doc); 0 for a
+        track in no tested pair (no evidence that it fits: the larger of this
+        and the local test's p-value is then the local test's).
+    deviation : float
+        Median over the tested pairs of the dominant motion's affine
+        deviation, in noise deviations (0 without any pair).
     """
     rng = check_random_state(random_state)
     n_samples, n_features = X0.shape

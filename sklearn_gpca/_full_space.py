@@ -331,20 +331,20 @@ def reassign_full_space(
     if max_fit_samples is not None and kept.size > max_fit_samples:
         sample = np.sort(rng.choice(kept, max_fit_samples, replace=False))
     members = labels[sample]
-    for _ in range(1 + n_trim):
+    for trim in range(1 + n_trim):
         bases, supports = _fit_groups(
             X0[sample], mask[sample], members, n_clusters, dim
         )
-        fitted = [k for k in range(n_clusters) if bases[k] is not None]
-        if len(fitted) < 2:
+        if sum(basis is not None for basis in bases) < 2:
             return labels.copy(), bases
-        # refit on the tracks whose own label is their nearest subspace: a
-        # track of another motion pulls a least-squares fit towards it
-        nearest = np.argmin(
-            _data_costs(X0[sample], mask[sample], labels[sample], bases, supports),
-            axis=1,
-        )
-        members = np.where(nearest == labels[sample], labels[sample], -1)
+        if trim < n_trim:
+            # refit on the tracks whose own label is their nearest subspace: a
+            # track of another motion pulls a least-squares fit towards it
+            nearest = np.argmin(
+                _data_costs(X0[sample], mask[sample], labels[sample], bases, supports),
+                axis=1,
+            )
+            members = np.where(nearest == labels[sample], labels[sample], -1)
     refined = labels.copy()
     costs = _data_costs(X0[kept], mask[kept], labels[kept], bases, supports)
     costs += anchor * (np.arange(n_clusters) != labels[kept][:, None])

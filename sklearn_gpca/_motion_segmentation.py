@@ -85,6 +85,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         Share of ambiguous tracks of each refined candidate (see
         :func:`sklearn_gpca._segment_selection.ambiguous_fraction`).
 
+    objectives_ : ndarray of shape (n_candidates,)
+        Value of the refinement's objective at each refined candidate (see
+        :func:`sklearn_gpca._refine_observed.refinement_objective`; lower fits
+        better, NaN for a candidate with outliers).
+
     chosen_ : str
         The candidate kept.
 
@@ -200,6 +205,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.candidates_ = list(info.candidates)
         self.coding_lengths_ = np.asarray(info.get("coding_lengths", []), dtype=float)
         self.ambiguity_ = np.asarray(info.get("ambiguity", []), dtype=float)
+        self.objectives_ = np.asarray(info.get("objectives", []), dtype=float)
         self.chosen_ = self.candidates_[info.chosen] if info.chosen >= 0 else "trivial"
         self.noise_ = float(info.get("noise", np.nan))
         self.n_iter_ = int(info.n_iters[info.chosen]) if info.chosen >= 0 else 0

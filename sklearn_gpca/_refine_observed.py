@@ -166,7 +166,7 @@ def refinement_objective(
         members = np.flatnonzero(labels == k)
         if members.size <= dims[k]:
             # an (almost) empty motion costs nothing and explains nothing
-            members = np.flatnonzero(np.ones_like(labels, dtype=bool))
+            members = np.arange(labels.size)
         basis, support = fit_observed_subspace(X0[members], mask[members], int(dims[k]))
         bases.append(basis)
         supports.append(support)

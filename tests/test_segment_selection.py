@@ -143,6 +143,10 @@ def test_estimator_selection_and_ambiguity():
     X, _ = make_motions(2, n_points=[60, 60], n_frames=8, random_state=0)
     model = MotionSegmentation(2, selection="separability", random_state=0).fit(X)
     assert model.ambiguity_.shape == (len(model.candidates_),)
+    # the estimator exposes the objective the function reports
+    _, info = segment_motions(X, 2, random_state=0, return_info=True)
+    np.testing.assert_array_equal(model.objectives_, info.objectives)
+    assert np.isfinite(model.objectives_).all()
     with pytest.raises(ValueError, match="selection"):
         MotionSegmentation(2, selection="bits").fit(X)
     with pytest.raises(ValueError, match="selection"):
