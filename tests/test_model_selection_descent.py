@@ -19,7 +19,7 @@ from sklearn_gpca import (
 )
 from sklearn_gpca._coding_descent import coding_length_descent, coding_length_moves
 from sklearn_gpca._coding_length import coding_length
-from sklearn_gpca._model_selection import MIN_MOTION_POINTS
+from sklearn_gpca._model_selection import MAX_CODED_TRAJECTORIES, MIN_MOTION_POINTS
 from sklearn_gpca._rows import unit_rows
 from sklearn_gpca.datasets import load_hopkins155
 from sklearn_gpca.metrics import misclassification_rate
@@ -136,6 +136,20 @@ def test_refined_cost_of_the_truth_beats_other_counts():
     assert true < refined_trajectory_coding_length_cost(X, 0 * y)
     split = np.where(np.arange(y.size) % 2, y, y + 3)
     assert true < refined_trajectory_coding_length_cost(X, split)
+
+
+def test_many_trajectories_are_judged_on_an_even_subset():
+    """Above 1000 trajectories the cost is that of 1000 evenly spaced ones,
+    scaled to all of them (bits per trajectory unchanged)."""
+    X, y = _subspaces(3, n_per=400, noise=1e-2)  # 1200 trajectories
+    kept = np.linspace(0, y.size - 1, MAX_CODED_TRAJECTORIES).round().astype(int)
+    wrong = np.where(np.arange(y.size) % 50 == 0, (y + 1) % 3, y)
+    expected = refined_trajectory_coding_length_cost(X[kept], wrong[kept])
+    assert np.isfinite(expected)
+    assert_allclose(
+        refined_trajectory_coding_length_cost(X, wrong),
+        expected * y.size / MAX_CODED_TRAJECTORIES,
+    )
 
 
 @settings(deadline=None, max_examples=20)
