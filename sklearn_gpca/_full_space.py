@@ -24,7 +24,10 @@ K-subspaces drifts from good starts where the motions are close.
 
 :func:`reassign_full_space` is the step that helps after the default
 pipeline: one assignment in :math:`R^{2F}`, anchored to the starting labels,
-without the :math:`R^5` neighbours (``benchmarks/results/scaling_stages.md``).
+without the :math:`R^5` neighbours (``benchmarks/results/scaling_stages.md``);
+``GPCAClustering(n, segmentation_dim=5, input_subspace_dim=4)`` on the raw
+tracks runs it after segmenting them as the default pipeline does
+(:func:`fit_full_space` and :func:`assign_full_space` are its two halves).
 
 Time and memory are ``O(m D d^2 t + P D d^2 n)`` for ``m`` fitted tracks,
 ``t`` rounds, ``P`` tracks of ``D = 2F`` coordinates and ``n`` subspaces of

@@ -148,3 +148,17 @@ def test_reassignment_is_not_bent_by_a_few_tracks_of_another_motion():
     before = misclassification_rate(y, start)
     assert misclassification_rate(y, trimmed) <= before
     assert misclassification_rate(y, untrimmed) > before + 0.05
+
+
+def test_a_group_too_small_to_fit_keeps_its_tracks_and_takes_none(motions):
+    from sklearn_gpca.stages import reassign_full_space
+
+    X, y, _ = motions
+    start = y.copy()
+    start[np.flatnonzero(y == 2)[:3]] = 3  # three tracks: no 4-D subspace
+    labels, bases = reassign_full_space(X, start, random_state=0)
+    assert bases[3] is None
+    np.testing.assert_array_equal(
+        np.flatnonzero(labels == 3), np.flatnonzero(start == 3)
+    )
+    assert misclassification_rate(y, np.minimum(labels, 2)) < 0.02
