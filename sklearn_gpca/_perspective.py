@@ -21,6 +21,7 @@ from sklearn_gpca._empty_motions import warn_empty_motions
 from sklearn_gpca._magnitude import in_safe_range
 from sklearn_gpca._missing import describe_indices, masked_to_nan
 from sklearn_gpca._rows import TINY, unit_rows
+from sklearn_gpca._short_tracks import label_from_neighbors
 from sklearn_gpca._spectral import embedding_kmeans
 from sklearn_gpca._validation import Count
 from sklearn_gpca._view_hypotheses import (
@@ -560,7 +561,9 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
         When some of the ``n_clusters`` labels are not used (e.g. identical
         tracks); the labels are returned as found, as
         :class:`~sklearn.cluster.KMeans` does. When some tracks are seen
-        only where too few tracks are co-visible to draw hypotheses.
+        only where too few tracks are co-visible to draw hypotheses. When
+        some tracks are seen in one frame where no longer track is seen
+        (they take the most common label).
 
     See Also
     --------
@@ -716,12 +719,18 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
                 f"must be None, got {self.n_segments}."
             )
         n_seen = observed_frames(X).sum(axis=1)
-        unseen = np.flatnonzero(n_seen < 2)
+        unseen = np.flatnonzero(n_seen == 0)
         if unseen.size:
             raise ValueError(
-                f"Every track needs two observed frames (both coordinates "
-                f"finite) to show a motion; {describe_indices(unseen)} rows have "
-                f"fewer. Remove them."
+                f"Every track needs an observed frame (both coordinates finite); "
+                f"{describe_indices(unseen)} rows have none. Remove them."
+            )
+        n_moving = np.count_nonzero(n_seen >= 2)
+        if self.n_clusters > n_moving:
+            raise ValueError(
+                f"n_clusters={self.n_clusters} must be at most the {n_moving} "
+                "tracks observed in two frames or more (a track seen in one "
+                "frame shows no motion)."
             )
         if n_frames < 2:
             raise ValueError(f"X must hold at least 2 frames, got {n_frames}.")
@@ -734,7 +743,10 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
         ----------
         X : array-like of shape (n_samples, 2 * n_frames)
             Tracks ``[x_1, y_1, ..., x_F, y_F]``, NaN (or masked) where
-            missing; each track observed in at least two frames.
+            missing; each track observed in at least one frame. Tracks seen
+            in one frame only show no motion: they take the label most common
+            among their 5 nearest longer tracks in the frame where they are
+            seen.
         y : Ignored
             Not used, present for API consistency.
 
@@ -747,8 +759,9 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
             self, masked_to_nan(X), dtype=np.float64, ensure_all_finite="allow-nan"
         )
         self._check_params_vs_input(X)
+        moving = observed_frames(X).sum(axis=1) >= 2
         labels, votes, n_iter = perspective_clustering(
-            X,
+            X[moving],
             self.n_clusters,
             models=tuple(self.models),
             n_hypotheses=self.n_hypotheses,
@@ -764,8 +777,18 @@ class PerspectiveClustering(ClusterMixin, BaseEstimator):
             partition=self.partition,
             random_state=self.random_state,
         )
+        silent = np.flatnonzero(moving)[np.diff(votes.indptr) == 0]
+        if not moving.all():
+            labels, orphans = label_from_neighbors(X, labels, moving)
+            if orphans.size:
+                warnings.warn(
+                    f"{describe_indices(orphans)} tracks are seen in one frame "
+                    "only, where no longer track is seen: they take the most "
+                    "common label.",
+                    UserWarning,
+                    stacklevel=2,
+                )
         warn_empty_motions(labels, self.n_clusters, X, name="n_clusters")
-        silent = np.flatnonzero(np.diff(votes.indptr) == 0)
         if silent.size:
             warnings.warn(
                 f"{describe_indices(silent)} tracks are observed only where too "

@@ -252,7 +252,9 @@ def _refine(
         for k in range(n_clusters):
             members = np.flatnonzero((labels == k) & ~excluded)
             if members.size <= dims[k]:
-                members = random_state.choice(n_samples, dims[k] + 1, replace=False)
+                members = random_state.choice(
+                    n_samples, min(dims[k] + 1, n_samples), replace=False
+                )
             init = bases[k]
             bases[k], supports[k] = fit_observed_subspace(
                 X0[members],

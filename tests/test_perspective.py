@@ -206,7 +206,7 @@ def test_one_cluster_and_reproducibility(driving):
         (np.ones((10, 6)), {"models": ("homography",) * 2}, "models must be"),
         (np.ones((10, 6)), {"gaps": (0,)}, "gaps must be"),
         (np.ones((10, 6)), {"gaps": (1.5,)}, "gaps must be"),
-        (np.ones((10, 2)), {}, "two observed frames"),
+        (np.ones((10, 2)), {}, "at most the 0 tracks observed in two frames"),
         (np.ones((4, 6)), {}, "nothing to vote for"),
     ],
 )
@@ -215,10 +215,11 @@ def test_bad_input_is_named(X, params, match):
         PerspectiveClustering(**params).fit(X)
 
 
-def test_tracks_seen_in_one_frame_are_named():
+def test_tracks_seen_in_no_frame_are_named():
     X = np.random.RandomState(0).normal(size=(20, 8))
-    X[[3, 7], 2:] = np.nan
-    with pytest.raises(ValueError, match=r"2 \(3, 7\) rows have fewer"):
+    X[[3, 7]] = np.nan
+    X[5, 1::2] = np.nan
+    with pytest.raises(ValueError, match=r"3 \(3, 5, 7\) rows have none"):
         PerspectiveClustering().fit(X)
 
 
