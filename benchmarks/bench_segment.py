@@ -109,9 +109,14 @@ RULES = {
     "auto+separability": ("auto", "separability"),
     "all+coding": ("all", "coding_length"),
     "all+separability": ("all", "separability"),
+    "all+fitted_separability": ("all", "fitted_separability"),
 }
 #: Criteria whose agreement with the error is reported: name -> info key.
-CRITERIA = {"coding length": "coding_lengths", "ambiguous fraction": "ambiguity"}
+CRITERIA = {
+    "coding length": "coding_lengths",
+    "ambiguous fraction": "ambiguity",
+    "ambiguous fraction at fitted dimensions": "fitted_ambiguity",
+}
 
 
 def _pipeline(X, n, paper):
@@ -157,9 +162,14 @@ def run_one(setting, name, X, y, n, threads, paper):
                 for i, c in enumerate(info.candidates)
                 if init == "all" or c != "votes"
             ]
+            ambiguity = info.ambiguity
+            if selection == "fitted_separability":
+                # as segment_motions(selection="fitted_separability") does
+                ambiguity = np.fmax(info.ambiguity, info.fitted_ambiguity)
+                selection = "separability"
             chosen = select_segmentation(
                 info.coding_lengths[keep],
-                info.ambiguity[keep],
+                ambiguity[keep],
                 selection=selection,
                 tolerance=AMBIGUITY_TOLERANCE,
             )

@@ -39,7 +39,8 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     init : {"auto", "all", "fragments", "gpca", "votes", "peel"}, default="all"
         Candidate segmentations (see :func:`segment_motions`).
 
-    selection : {"separability", "coding_length"}, default="separability"
+    selection : {"separability", "fitted_separability", "coding_length"}, \
+            default="separability"
         How the refined candidate is kept (see :func:`segment_motions`).
 
     merge_split : bool, default=False
@@ -128,7 +129,9 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     _parameter_constraints: dict = {
         "n_clusters": [Count(1, None, closed="left")],
         "init": [StrOptions({"auto", "all", "fragments", "gpca", "votes", "peel"})],
-        "selection": [StrOptions({"coding_length", "separability"})],
+        "selection": [
+            StrOptions({"coding_length", "separability", "fitted_separability"})
+        ],
         "merge_split": ["boolean"],
         "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],

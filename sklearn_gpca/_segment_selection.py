@@ -98,8 +98,10 @@ def ambiguous_fraction(X0, mask, labels, noise, *, subspace_dim=4, ratio=2.0):
     noise : float
         Noise variance per coordinate, ``>= 0``: residuals below it are
         not told apart.
-    subspace_dim : int, default=4
-        Dimension of every group's subspace.
+    subspace_dim : int or array-like of shape (n_groups,), default=4
+        Dimension of every group's subspace, or one per group in the order
+        of ``np.unique(labels)`` (e.g.
+        :func:`sklearn_gpca._fitted_dimensions.group_dimensions`).
     ratio : float, default=2.0
         How much better the own subspace must fit, ``> 1``.
 
@@ -113,8 +115,20 @@ def ambiguous_fraction(X0, mask, labels, noise, *, subspace_dim=4, ratio=2.0):
         raise ValueError(
             f"ambiguous_fraction needs at least two groups, got {groups.size}."
         )
+    dims = np.asarray(subspace_dim)
+    if dims.ndim == 0:
+        dims = np.full(groups.size, dims)
+    if (
+        dims.shape != (groups.size,)
+        or not np.issubdtype(dims.dtype, np.integer)
+        or dims.min() < 1
+    ):
+        raise ValueError(
+            "subspace_dim must be a positive integer or one per group "
+            f"({groups.size}), got {subspace_dim!r}."
+        )
     fits = [
-        fit_observed_subspace(X0[index == g], mask[index == g], subspace_dim)
+        fit_observed_subspace(X0[index == g], mask[index == g], int(dims[g]))
         for g in range(groups.size)
     ]
     residuals, dofs = subspace_residuals(

@@ -119,9 +119,46 @@ def test_reassign_keeps_outliers_and_checks_parameters(motions):
         reassign_full_space(X, y, anchor=-1.0)
     with pytest.raises(ValueError, match="n_trim"):
         reassign_full_space(X, y, n_trim=-1)
+    with pytest.raises(ValueError, match="trim_fraction"):
+        reassign_full_space(X, y, trim_fraction=1.0)
     with pytest.raises(ValueError, match="labels"):
         reassign_full_space(X, y[:-1])
     infinite = X.copy()
     infinite[0, 0] = np.inf
     with pytest.raises(ValueError, match="infinity"):
         reassign_full_space(infinite, y)
+
+
+def test_reassignment_is_not_bent_by_a_few_tracks_of_another_motion():
+    # make_motions draw 2 of 600 tracks: the R^5 segmentation puts 3 tracks of
+    # one motion among the 200 of another, whose weakest direction a
+    # least-squares fit turns towards them (58 degrees): refitted only on the
+    # tracks it finds nearest, it then moves 48 of its own tracks away
+    from sklearn_gpca import GPCAClustering
+    from sklearn_gpca.stages import reassign_full_space
+
+    X, y = make_motions(
+        3, n_points=600, n_frames=10, noise=1.0, missing=0.1, random_state=2
+    )
+    start = GPCAClustering(3, segmentation_dim=5, random_state=0).fit(X).labels_
+    trimmed, _ = reassign_full_space(X, start, random_state=0)
+    untrimmed, _ = reassign_full_space(
+        X, start, n_trim=1, trim_fraction=0.0, random_state=0
+    )
+    before = misclassification_rate(y, start)
+    assert misclassification_rate(y, trimmed) <= before
+    assert misclassification_rate(y, untrimmed) > before + 0.05
+
+
+def test_a_group_too_small_to_fit_keeps_its_tracks_and_takes_none(motions):
+    from sklearn_gpca.stages import reassign_full_space
+
+    X, y, _ = motions
+    start = y.copy()
+    start[np.flatnonzero(y == 2)[:3]] = 3  # three tracks: no 4-D subspace
+    labels, bases = reassign_full_space(X, start, random_state=0)
+    assert bases[3] is None
+    np.testing.assert_array_equal(
+        np.flatnonzero(labels == 3), np.flatnonzero(start == 3)
+    )
+    assert misclassification_rate(y, np.minimum(labels, 2)) < 0.02
