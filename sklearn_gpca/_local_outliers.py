@@ -94,7 +94,8 @@ def _neighbours(x, m, rows, n_neighbors, beta, pool):
 
 
 def _window_statistics(x, m, rows, dim, n_neighbors, beta, pool):
-    """F statistic, its degrees of freedom and testability of ``rows``."""
+    """F statistic, its degrees of freedom, testability of ``rows`` and whether
+    their neighbours' spread measures a noise above rounding."""
     counts = m[rows].sum(axis=1).astype(np.intp)
     nearest, valid = _neighbours(x, m, rows, n_neighbors, beta, pool)
     n_valid = valid.sum(axis=1)
@@ -112,8 +113,13 @@ def _window_statistics(x, m, rows, dim, n_neighbors, beta, pool):
     energy = np.sum(np.where(beyond, values**2, 0.0), axis=1)
     dof1 = np.maximum(counts - dims, 1)
     dof2 = np.maximum((n_valid - dims) * (counts - dims), 1)
-    sigma2 = np.maximum(energy / dof2, np.finfo(np.float64).tiny)
-    return residual / (dof1 * sigma2), dof1, dof2, tested
+    # |x|^2 - |P x|^2 cancels: a residual below a few eps |x|^2 is rounding, so
+    # a neighbourhood spread below that is no noise estimate (noise-free tracks)
+    rounding = 16 * np.finfo(np.float64).eps * (xr * xr).sum(axis=1) / dof1
+    spread = energy / dof2
+    measured = spread > rounding
+    sigma2 = np.maximum(np.where(measured, spread, rounding), np.finfo(np.float64).tiny)
+    return residual / (dof1 * sigma2), dof1, dof2, tested, measured
 
 
 def local_outlier_pvalues(
@@ -191,11 +197,19 @@ def local_outlier_pvalues(
             _window_statistics(x, m, rows, dim, n_neighbors, beta, pool)
             for rows in row_chunks(n_samples, _CHUNK)
         ]
-        stat, dof1, dof2, tested = (np.concatenate(p) for p in zip(*parts, strict=True))
+        stat, dof1, dof2, tested, measured = (
+            np.concatenate(p) for p in zip(*parts, strict=True)
+        )
         if tested.sum() < MIN_TESTED:
             continue
-        ratio = np.median(stat[tested] / stats.f.median(dof1[tested], dof2[tested]))
-        stat = stat / max(ratio, np.finfo(np.float64).tiny)
+        # calibrated on the tracks whose noise is measured; where none is
+        # (noise-free tracks), rounding is the noise
+        calibrate = tested & measured
+        if calibrate.sum() >= MIN_TESTED:
+            ratio = np.median(
+                stat[calibrate] / stats.f.median(dof1[calibrate], dof2[calibrate])
+            )
+            stat = stat / max(ratio, np.finfo(np.float64).tiny)
         log_p = np.maximum(stats.f.logsf(stat, dof1, dof2), _LOG_FLOOR)
         smallest = np.where(tested, np.minimum(smallest, log_p), smallest)
         n_tests += tested

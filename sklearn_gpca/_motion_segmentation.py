@@ -68,6 +68,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         probability per track (e.g. ``1e-3``; see
         :func:`~sklearn_gpca.segment_motions`); None labels every track.
 
+    screen_outliers : bool, default=True
+        Without ``outlier_threshold``: set aside the tracks the outlier test
+        flags at ``1e-3`` while the motions are found, then give each the
+        nearest motion (see :func:`~sklearn_gpca.segment_motions`).
+
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
 
@@ -134,6 +139,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         "per_cluster": ["boolean"],
         "max_iter": [Count(1, None, closed="left")],
         "outlier_threshold": [Interval(Real, 0, 1, closed="neither"), None],
+        "screen_outliers": ["boolean"],
         "random_state": ["random_state"],
     }
 
@@ -150,6 +156,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         per_cluster=True,
         max_iter=30,
         outlier_threshold=None,
+        screen_outliers=True,
         random_state=None,
     ):
         self.n_clusters = n_clusters
@@ -162,6 +169,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.per_cluster = per_cluster
         self.max_iter = max_iter
         self.outlier_threshold = outlier_threshold
+        self.screen_outliers = screen_outliers
         self.random_state = random_state
 
     @_fit_context(prefer_skip_nested_validation=True)
@@ -201,6 +209,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             per_cluster=self.per_cluster,
             max_iter=self.max_iter,
             outlier_threshold=self.outlier_threshold,
+            screen_outliers=self.screen_outliers,
             random_state=self.random_state,
             return_info=True,
         )

@@ -227,9 +227,21 @@ def outlier_pvalues(
 
 
 def screened_segmentation(
-    segment, X, n_motions, *, outlier_threshold, init, return_info, **kwargs
+    segment,
+    X,
+    n_motions,
+    *,
+    outlier_threshold,
+    init,
+    return_info,
+    assign=False,
+    **kwargs,
 ):
-    """Label ``-1`` the tracks that fail the local test, segment the others.
+    """Set aside the tracks that fail the local test, segment the others.
+
+    The set-aside tracks are labelled ``-1``, or, with ``assign``, given the
+    nearest motion once the others are segmented (then without the two-view
+    test, which only clears false alarms).
 
     The test (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`)
     needs no segmentation, so the outliers are set aside *before* the
@@ -253,7 +265,11 @@ def screened_segmentation(
     return_info : bool
         Also return ``segment``'s Bunch (about the kept tracks), with
         ``outlier_pvalues`` (every track's p-value) and ``outliers`` (bool
-        mask of the tracks labelled ``-1``).
+        mask of the tracks set aside).
+    assign : bool, default=False
+        Give each set-aside track the motion whose subspace (fitted to the
+        motion's kept tracks on their observed entries) is nearest on the
+        track's observed entries, instead of ``-1``.
     **kwargs
         Passed to ``segment``.
 
@@ -277,7 +293,9 @@ def screened_segmentation(
             )
     X0, mask = observed_entries(X)
     pvalues = local_outlier_pvalues(X0, mask)
-    if np.any(pvalues < outlier_threshold):
+    # a set-aside track that is then assigned costs little if it was a false
+    # alarm: the two-view check, which only clears false alarms, is skipped
+    if not assign and np.any(pvalues < outlier_threshold):
         pvalues = perspective_checked_pvalues(
             X0, mask, pvalues, n_motions, random_state=kwargs.get("random_state")
         )
@@ -296,6 +314,10 @@ def screened_segmentation(
     )
     labels = np.full(n_samples, -1, dtype=np.intp)
     labels[kept] = result[0] if return_info else result
+    if assign and outliers.any():
+        from sklearn_gpca._segment import _nearest_labels
+
+        labels = _nearest_labels(X0, mask, np.maximum(labels, 0), kept, n_motions)
     if return_info:
         info = result[1]
         info.outlier_pvalues = pvalues

@@ -225,3 +225,18 @@ def test_given_init_of_the_wrong_length_is_refused():
     X = _one_motion(40, 8, 0.01, np.random.RandomState(5))
     with pytest.raises(ValueError, match=r"one label in 0 \.\. 1 per track \(40\)"):
         segment_motions(X, 2, init=np.zeros(39, dtype=int), outlier_threshold=1e-3)
+
+
+@pytest.mark.filterwarnings("error::RuntimeWarning")
+@pytest.mark.parametrize("seed", [0, 2, 3])
+def test_noise_free_tracks_are_not_outliers_but_a_random_track_is(seed):
+    from sklearn_gpca.datasets import make_motions
+
+    X = make_motions(2, n_points=60, n_frames=8, noise=0.0, random_state=seed)[0]
+    X0, mask = observed_entries(X)
+    # rounding-level residuals over a rounding-level spread: no flag, no overflow
+    assert np.all(local_outlier_pvalues(X0, mask) >= 1e-3)
+    X[5] = np.random.RandomState(seed).normal(size=X.shape[1]) * X.std() + X.mean()
+    X0, mask = observed_entries(X)
+    flagged = np.flatnonzero(local_outlier_pvalues(X0, mask) < 1e-3)
+    assert flagged.tolist() == [5]

@@ -76,8 +76,10 @@ def test_peel_finds_a_start_the_fragments_route_misses():
         scene="lab", n_motions=3, n_frames=30, missing=0.3, random_state=3
     )
     X, y = X[y >= 0], y[y >= 0]
-    old = segment_motions(X, 3, init="fragments", random_state=0)
-    new, info = segment_motions(X, 3, init="peel", random_state=0, return_info=True)
+    # the starts alone: no outlier screening, which also mends this draw
+    kwargs = dict(random_state=0, screen_outliers=False)
+    old = segment_motions(X, 3, init="fragments", **kwargs)
+    new, info = segment_motions(X, 3, init="peel", return_info=True, **kwargs)
     assert misclassification_rate(y, old) > 0.15
     assert misclassification_rate(y, new) < 0.02
     assert all(name.startswith("peel ") for name in info.candidates)
