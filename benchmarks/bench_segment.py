@@ -57,7 +57,16 @@ from sklearn_gpca import (
     paper_pipeline,
     segment_motions,
 )
-from sklearn_gpca._segment import AMBIGUITY_TOLERANCE, projectable
+from sklearn_gpca._fitted_dimensions import (
+    EXTRA_DIMENSIONS,
+    fitted_ambiguous_fraction,
+)
+from sklearn_gpca._observed_subspaces import observed_entries
+from sklearn_gpca._segment import (
+    AMBIGUITY_DIM_DROP,
+    AMBIGUITY_TOLERANCE,
+    projectable,
+)
 from sklearn_gpca._segment_selection import select_segmentation
 from sklearn_gpca.datasets import load_hopkins155, make_missing, make_tracks
 from sklearn_gpca.metrics import misclassification_rate, oracle_labels
@@ -119,6 +128,29 @@ CRITERIA = {
 }
 
 
+def fitted_ambiguities(X, info, subspace_dim=4):
+    """``info.fitted_ambiguity`` of ``segment_motions(X, ..., return_info=True)``
+    as ``selection="fitted_separability"`` computes it, for a call without
+    screening or outliers (every track in every candidate)."""
+    X0, mask = observed_entries(X)
+    X0 = X0 / info.scale
+    return np.array(
+        [
+            fitted_ambiguous_fraction(
+                X0,
+                mask,
+                labels,
+                info.noise,
+                min_dim=max(subspace_dim - AMBIGUITY_DIM_DROP, 1),
+                max_dim=subspace_dim + EXTRA_DIMENSIONS,
+            )
+            if np.unique(labels).size > 1
+            else np.nan
+            for labels in info.refined
+        ]
+    )
+
+
 def _pipeline(X, n, paper):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -160,6 +192,8 @@ def run_one(setting, name, X, y, n, threads, paper):
                     return_info=True,
                 )
             )
+            # what selection="fitted_separability" would compute
+            info.fitted_ambiguity = fitted_ambiguities(X, info)
         errors = [misclassification_rate(y, r) for r in info.refined]
         row["candidates"] = dict(zip(info.candidates, errors, strict=True))
         for key, (init, selection) in RULES.items():

@@ -73,10 +73,12 @@ def run_one(setting, seed, threads):
         X, y = make_tracks(**TRACK_SETTINGS[setting], random_state=seed)
         X, y = X[y >= 0], y[y >= 0]
         n = int(np.unique(y).size)
-        found, info = segment_motions(X, n, random_state=0, return_info=True)
-        from_truth = segment_motions(X, n, init=y, random_state=0)
+        # every track in every candidate: no outlier screening
+        kwargs = dict(screen_outliers=False, random_state=0)
+        found, info = segment_motions(X, n, return_info=True, **kwargs)
+        from_truth = segment_motions(X, n, init=y, **kwargs)
         oracle = oracle_labels(X, y)
-        from_oracle = segment_motions(X, n, init=oracle, random_state=0)
+        from_oracle = segment_motions(X, n, init=oracle, **kwargs)
         errors = [misclassification_rate(y, r) for r in info.refined]
         best = int(np.argmin(info.objectives))
         starts = {

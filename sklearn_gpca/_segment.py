@@ -495,8 +495,9 @@ def segment_motions(
         Seeds the spectral clustering, k-means and the projections.
     return_info : bool, default=False
         Also return a Bunch with the candidates, their refined labels,
-        coding lengths, ambiguous fractions (at the fixed and at the fitted
-        dimensions) and refinement objectives, and the estimated noise.
+        coding lengths, ambiguous fractions (and, with
+        ``selection="fitted_separability"``, at the fitted dimensions) and
+        refinement objectives, and the estimated noise.
 
     Returns
     -------
@@ -512,8 +513,9 @@ def segment_motions(
         ``ambiguity`` (share of
         ambiguous tracks; NaN for a candidate of one motion),
         ``fitted_ambiguity`` (the same at the groups' fitted dimensions,
-        see ``selection``; NaN when neither ``return_info`` nor
-        ``selection="fitted_separability"`` asks for it), ``chosen``
+        see ``selection``; NaN unless ``selection="fitted_separability"``:
+        it costs up to 5 subspace fits per group and pair of groups),
+        ``chosen``
         (index; ``refined[chosen]`` is the segmentation before the
         merge/split moves), ``n_moves`` (moves kept), ``noise`` (variance
         per coordinate, in the units of the scaled tracks) and ``scale`` (the
@@ -682,7 +684,7 @@ def segment_motions(
         ]
     )
     fitted = np.full(len(refined), np.nan)
-    if selection == "fitted_separability" or return_info:
+    if selection == "fitted_separability":
         min_dim = max(subspace_dim - AMBIGUITY_DIM_DROP, 1)
         fitted = np.array(
             [
