@@ -31,7 +31,9 @@ The p-value of a track is the smallest over its windows times the number of
 windows it is tested in (Bonferroni), so that a track whose residuals are
 noise is flagged with probability at most the threshold. A track observing
 fewer than 6 coordinates in every window (seen in 2 frames or fewer there),
-or without ``DIM + 3`` tracks covering it, is not tested (p-value 1).
+or without ``DIM + 3`` tracks covering it, is not tested (p-value 1). A
+frame counts as observed when both its coordinates are: a lone ``x`` or ``y``
+is left out of the test.
 
 Settings (``WINDOW``, ``DIM``, ``N_NEIGHBORS``, ``BETA``) were chosen on
 ``make_tracks`` draws with 10 % outliers (handheld, driving and lab, seeds
@@ -181,6 +183,11 @@ def local_outlier_pvalues(
             f"exclude must hold one bool per track ({n_samples}), got shape "
             f"{np.shape(exclude)}."
         )
+    # the neighbour distance pairs x and y per frame: a coordinate whose
+    # partner is missing is left out of the test
+    seen = np.repeat(mask[:, 0::2] & mask[:, 1::2], 2, axis=1)
+    X0 = np.where(seen, X0, 0.0)
+    mask = seen
     starts, width = frame_windows(n_features // 2, int(window))
     frames = np.arange(n_features) // 2
     smallest = np.zeros(n_samples)

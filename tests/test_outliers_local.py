@@ -240,3 +240,21 @@ def test_noise_free_tracks_are_not_outliers_but_a_random_track_is(seed):
     X0, mask = observed_entries(X)
     flagged = np.flatnonzero(local_outlier_pvalues(X0, mask) < 1e-3)
     assert flagged.tolist() == [5]
+
+
+def test_a_lone_coordinate_does_not_make_inliers_outliers():
+    # every track misses x (not y) in its first frame, as some trackers
+    # report a clipped coordinate; the neighbour distance pairs x and y, and
+    # counting the lone y flagged about a third of the inliers (p < 1e-40)
+    rng = np.random.RandomState(0)
+    X = _one_motion(150, 12, 0.01, rng)
+    X[:, 0] = np.nan
+    pvalues = local_outlier_pvalues(*observed_entries(X))
+    assert pvalues.min() > 1e-3
+
+
+def test_segment_motions_screening_survives_a_lone_coordinate():
+    X, y = make_tracks(scene="lab", n_tracks=120, n_frames=10, random_state=0)
+    X, y = X[y >= 0], y[y >= 0]
+    X[:, 0] = np.nan
+    assert misclassification_rate(y, segment_motions(X, 2, random_state=0)) == 0.0
