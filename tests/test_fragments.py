@@ -22,7 +22,8 @@ from sklearn_gpca._observed_subspaces import (
     subspace_residuals,
 )
 from sklearn_gpca._track_neighbors import track_neighbors
-from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.datasets import make_motions, make_tracks
+from sklearn_gpca.metrics import misclassification_rate
 
 
 def _reference_merge(X0, mask, fragments, n_clusters, noise, max_dim=8, min_dof=4):
@@ -96,6 +97,36 @@ def test_merge_fragments_equals_the_pairwise_reference(seed):
             merge_fragments(X0, mask, fragments, n_clusters, noise),
             _reference_merge(X0, mask, fragments, n_clusters, noise),
         )
+
+
+def test_large_groups_are_fitted_on_a_spread_of_their_tracks(monkeypatch):
+    # the cap keeps each refit bounded (linear merging cost); with groups
+    # fitted on 50 evenly spread tracks, 30 fragments of three motions of 200
+    # tracks with 30 % occlusion still merge into the motions
+    import sklearn_gpca._fragments as fragments_module
+
+    X, y = make_motions(
+        3,
+        n_points=[200, 200, 200],
+        n_frames=10,
+        missing=0.3,
+        missing_pattern="occlusion",
+        random_state=0,
+    )
+    X0, mask = observed_entries(X)
+    X0 /= np.sqrt(np.mean(X0[mask] ** 2))
+    sizes = []
+
+    def recorded(X0, mask, noise, max_dim):
+        sizes.append(X0.shape[0])
+        return fit_adaptive_subspace(X0, mask, noise, max_dim=max_dim)
+
+    monkeypatch.setattr(fragments_module, "MAX_GROUP_TRACKS", 50)
+    monkeypatch.setattr(fragments_module, "fit_adaptive_subspace", recorded)
+    fragments = y * 10 + np.arange(y.size) % 10
+    labels = merge_fragments(X0, mask, fragments, 3, 1e-4)
+    assert max(sizes) == 50
+    assert misclassification_rate(y, labels) == 0.0
 
 
 def test_merge_fragments_takes_any_fragment_labels():
