@@ -73,6 +73,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         flags at ``1e-3`` while the motions are found, then give each the
         nearest motion (see :func:`~sklearn_gpca.segment_motions`).
 
+    perspective_background : bool, default=True
+        Also refine every candidate with its largest motion (the background of
+        tracker output) seen by a perspective camera, and choose among both
+        sets (see :func:`~sklearn_gpca.segment_motions`).
+
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
 
@@ -140,6 +145,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         "max_iter": [Count(1, None, closed="left")],
         "outlier_threshold": [Interval(Real, 0, 1, closed="neither"), None],
         "screen_outliers": ["boolean"],
+        "perspective_background": ["boolean"],
         "random_state": ["random_state"],
     }
 
@@ -157,6 +163,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         max_iter=30,
         outlier_threshold=None,
         screen_outliers=True,
+        perspective_background=True,
         random_state=None,
     ):
         self.n_clusters = n_clusters
@@ -170,6 +177,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.max_iter = max_iter
         self.outlier_threshold = outlier_threshold
         self.screen_outliers = screen_outliers
+        self.perspective_background = perspective_background
         self.random_state = random_state
 
     @_fit_context(prefer_skip_nested_validation=True)
@@ -210,6 +218,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             max_iter=self.max_iter,
             outlier_threshold=self.outlier_threshold,
             screen_outliers=self.screen_outliers,
+            perspective_background=self.perspective_background,
             random_state=self.random_state,
             return_info=True,
         )

@@ -27,10 +27,17 @@ from sklearn_gpca._observed_subspaces import (
     subspace_residuals,
 )
 from sklearn_gpca._outliers import TEST_DIM, outlier_pvalues
+from sklearn_gpca._projective_motion import (
+    fit_projective_motion,
+    projective_residuals,
+)
 from sklearn_gpca._rows import TINY
 
 #: Most rounds of outlier test and refinement without the flagged tracks.
 OUTLIER_ROUNDS = 3
+#: Fewest tracks of the cluster modelled by a perspective camera (else all
+#: tracks fit it, as a too small subspace cluster is reseeded).
+MIN_PROJECTIVE_TRACKS = 12
 
 
 def neighbor_disagreements(labels, neighbors, n_clusters, weights=None):
@@ -224,6 +231,49 @@ def misfit_ratios(residuals, dofs, labels):
     return ratios
 
 
+def _cluster_residuals(X0, mask, labels, excluded, dims, models, random_state):
+    """Residuals of every track to every cluster's model, models refitted.
+
+    ``models[k]`` is the previous fit of cluster ``k`` (None at first): a
+    ``(basis, support)`` subspace pair, or a ``("projective", cameras,
+    supported)`` triple for the cluster modelled by a perspective camera
+    (``dims[k] == 0``). Updates ``models`` in place.
+    """
+    n_samples = X0.shape[0]
+    residuals = np.empty((n_samples, len(dims)))
+    dofs = np.empty((n_samples, len(dims)), dtype=np.intp)
+    for k, dim in enumerate(dims):
+        members = np.flatnonzero((labels == k) & ~excluded)
+        if dim == 0:
+            if members.size < MIN_PROJECTIVE_TRACKS:
+                members = np.flatnonzero(~excluded)
+            previous = models[k][1] if models[k] is not None else None
+            cameras, supported = fit_projective_motion(
+                X0[members], mask[members], cameras=previous
+            )
+            models[k] = ("projective", cameras, supported)
+            residuals[:, k], dofs[:, k] = projective_residuals(
+                X0, mask, cameras, supported
+            )
+            continue
+        if members.size <= dim:
+            members = random_state.choice(
+                n_samples, min(dim + 1, n_samples), replace=False
+            )
+        init = models[k][0] if models[k] is not None else None
+        basis, support = fit_observed_subspace(
+            X0[members],
+            mask[members],
+            int(dim),
+            init=init,
+            max_iter=5 if init is not None else 30,
+        )
+        models[k] = (basis, support)
+        r, d = subspace_residuals(X0, mask, [basis], [support])
+        residuals[:, k], dofs[:, k] = r[:, 0], d[:, 0]
+    return residuals, dofs
+
+
 def _refine(
     X0,
     mask,
@@ -239,31 +289,20 @@ def _refine(
     excluded,
     random_state,
 ):
-    """Smoothed K-subspaces; ``excluded`` tracks are labelled but fit nothing."""
+    """Smoothed K-subspaces; ``excluded`` tracks are labelled but fit nothing.
+
+    A cluster of dimension 0 in ``dims`` is modelled by a perspective camera.
+    """
     labels = np.asarray(labels, dtype=np.intp).copy()
-    n_samples = X0.shape[0]
-    bases = [None] * n_clusters
-    supports = [None] * n_clusters
+    models = [None] * n_clusters
     previous = None
     converged = False
     n_iter = 0
     while n_iter < max_iter:
         n_iter += 1
-        for k in range(n_clusters):
-            members = np.flatnonzero((labels == k) & ~excluded)
-            if members.size <= dims[k]:
-                members = random_state.choice(
-                    n_samples, min(dims[k] + 1, n_samples), replace=False
-                )
-            init = bases[k]
-            bases[k], supports[k] = fit_observed_subspace(
-                X0[members],
-                mask[members],
-                int(dims[k]),
-                init=init,
-                max_iter=5 if init is not None else 30,
-            )
-        residuals, dofs = subspace_residuals(X0, mask, bases, supports)
+        residuals, dofs = _cluster_residuals(
+            X0, mask, labels, excluded, dims, models, random_state
+        )
         marked = np.where(excluded, -1, labels)
         costs = assignment_costs(residuals, dofs, marked, per_cluster=per_cluster)
         if smoothing > 0:
@@ -275,6 +314,9 @@ def _refine(
             converged = True
             break
         previous, labels = labels, new_labels
+    perspective = [isinstance(m[0], str) for m in models]
+    bases = [m[1] if p else m[0] for m, p in zip(models, perspective, strict=True)]
+    supports = [m[2] if p else m[1] for m, p in zip(models, perspective, strict=True)]
     return labels, bases, supports, n_iter, converged
 
 
@@ -291,6 +333,7 @@ def refine_observed(
     per_cluster=True,
     max_iter=30,
     outlier_threshold=None,
+    perspective_cluster=None,
     random_state,
 ):
     """Smoothed K-subspaces on observed entries, from initial labels.
@@ -329,6 +372,14 @@ def refine_observed(
         of the subspace fits and the scales, until the flagged set settles
         (at most ``OUTLIER_ROUNDS`` times). None labels every track with a
         motion.
+    perspective_cluster : int or None, default=None
+        Cluster modelled by a perspective camera instead of a subspace
+        (:mod:`sklearn_gpca._projective_motion`; typically the background:
+        the largest cluster of ``labels``). Its residuals are reprojection
+        errors with ``2 m - 4`` degrees of freedom for a track seen in ``m``
+        frames, as for a 4-D subspace. Its entries of the returned ``bases``
+        and ``supports`` are the cameras ``(n_frames, 3, 4)`` and the
+        supported frames.
     random_state : RandomState instance
         Reseeds a cluster too small to fit its subspace.
 
@@ -344,7 +395,11 @@ def refine_observed(
         Whether the labels of the last refinement settled (or alternated
         between two labellings).
     """
-    dims = np.broadcast_to(np.asarray(subspace_dim, dtype=np.intp), (n_clusters,))
+    dims = np.array(
+        np.broadcast_to(np.asarray(subspace_dim, dtype=np.intp), (n_clusters,))
+    )
+    if perspective_cluster is not None:
+        dims[perspective_cluster] = 0
     excluded = np.zeros(X0.shape[0], dtype=bool)
     kwargs = dict(
         neighbors=neighbors,
@@ -364,7 +419,12 @@ def refine_observed(
     for _ in range(OUTLIER_ROUNDS):
         marked = np.where(excluded, -1, labels)
         pvalues = outlier_pvalues(
-            X0, mask, marked, n_clusters, dim=test_dim, min_dim=int(dims.min())
+            X0,
+            mask,
+            marked,
+            n_clusters,
+            dim=test_dim,
+            min_dim=int(dims[dims > 0].min(initial=test_dim)),
         )
         flagged = pvalues < outlier_threshold
         if np.array_equal(flagged, excluded):

@@ -233,7 +233,9 @@ def test_segment_motions_labels_short_tracks():
 def test_segment_motions_info_and_given_init():
     X, y = _draw()
     labels, info = segment_motions(X, 3, init=y, random_state=0, return_info=True)
-    assert info.candidates == ["given"] and info.chosen == 0
+    assert info.candidates == ["given", "given + perspective background"]
+    assert info.chosen in (0, 1)
+    np.testing.assert_array_equal(info.initial[1], info.refined[0])
     assert misclassification_rate(y, labels) == 0.0
 
 
@@ -365,7 +367,7 @@ def test_segment_motions_votes_candidate_segments_tracks():
     X, y = make_tracks(3, scene="lab", n_tracks=200, n_frames=20, random_state=0)
     X[:5, 2:] = np.nan  # tracks seen in one frame cast no vote
     labels, info = segment_motions(X, 3, init="votes", random_state=0, return_info=True)
-    assert info.candidates == ["votes"]
+    assert info.candidates == ["votes", "votes + perspective background"]
     assert set(labels) <= {0, 1, 2}
     assert misclassification_rate(y, info.initial[0]) < 0.05
     assert misclassification_rate(y, labels) < 0.03

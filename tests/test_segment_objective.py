@@ -117,7 +117,9 @@ def test_objective_matches_definition():
 
 def test_segment_motions_reports_the_objective_of_each_candidate():
     X, y = make_motions(2, n_points=[60, 40], n_frames=8, missing=0.2, random_state=3)
-    labels, info = segment_motions(X, 2, init=y, random_state=0, return_info=True)
+    labels, info = segment_motions(
+        X, 2, init=y, perspective_background=False, random_state=0, return_info=True
+    )
     X0, mask = observed_entries(X)
     X0 = X0 / info.scale
     neighbors, _, _, weights = track_graph(

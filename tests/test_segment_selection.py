@@ -123,8 +123,9 @@ def test_segment_motions_selection_wiring(selection):
     # without screening, the info describes every track
     kwargs = dict(init="all", selection=selection, screen_outliers=False)
     labels, info = segment_motions(X, 2, random_state=0, return_info=True, **kwargs)
-    assert info.candidates == ["gpca", "fragments", "votes"]
-    assert info.ambiguity.shape == info.coding_lengths.shape == (3,)
+    routes = ["gpca", "fragments", "votes"]
+    assert info.candidates == routes + [f"{r} + perspective background" for r in routes]
+    assert info.ambiguity.shape == info.coding_lengths.shape == (6,)
     assert np.all((info.ambiguity >= 0) & (info.ambiguity <= 1))
     expected = select_segmentation(
         info.coding_lengths,
@@ -158,7 +159,8 @@ def test_default_candidates_include_votes_and_rule_uses_smaller_subspaces():
     labels, info = segment_motions(
         X, 2, random_state=0, return_info=True, screen_outliers=False
     )
-    assert info.candidates == ["gpca", "fragments", "votes"]
+    routes = ["gpca", "fragments", "votes"]
+    assert info.candidates == routes + [f"{r} + perspective background" for r in routes]
     # the ambiguity of each candidate is measured with 3-D subspaces
     X0, mask = observed_entries(X)
     X0 = X0 / info.scale
