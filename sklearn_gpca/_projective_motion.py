@@ -266,6 +266,30 @@ def affine_cameras(X0, mask):
     return _unit(cameras.reshape(n_frames, 12)).reshape(n_frames, 3, 4)
 
 
+def _frame_orders(seen):
+    """Orders in which the sequential fit adds the frames, forwards and backwards.
+
+    Each starts with three consecutive frames that at least
+    ``2 * MIN_CAMERA_POINTS`` tracks all see (the first such triple,
+    respectively the last; the best seen triple when none qualifies), then
+    goes on to the end of the sequence and finally back to its other end: a
+    motion seen only in the middle of the sequence starts where it is seen.
+    """
+    n_frames = seen.shape[1]
+    if n_frames < 3:
+        every = np.arange(n_frames)
+        return [every, every[::-1]]
+    counts = np.count_nonzero(seen[:, :-2] & seen[:, 1:-1] & seen[:, 2:], axis=0)
+    good = np.flatnonzero(counts >= 2 * MIN_CAMERA_POINTS)
+    first = int(good[0]) if good.size else int(np.argmax(counts))
+    last = int(good[-1]) + 2 if good.size else int(np.argmax(counts)) + 2
+    forward = (
+        np.r_[first:n_frames, first - 1 : -1 : -1] if first else np.arange(n_frames)
+    )
+    backward = np.r_[last:-1:-1, last + 1 : n_frames]
+    return [forward, backward]
+
+
 def _sequential_fit(X0, mask, points, seen):
     """Frames added one at a time, each camera resected from the points so far."""
     n_frames = seen.shape[1]
@@ -344,15 +368,18 @@ def fit_projective_motion(X0, mask, *, cameras=None):
     informative = np.count_nonzero(seen, axis=1) >= 2
     supported = np.count_nonzero(seen[informative], axis=0) >= MIN_CAMERA_POINTS
     if cameras is None:
-        # frames added forwards and backwards; the fit that leaves the fewer
-        # tracks far from it is kept (either order can settle badly)
-        forward, _ = _sequential_fit(X0, mask, points, seen)
-        order = np.arange(points.shape[1])[::-1]
-        columns = np.column_stack([2 * order, 2 * order + 1]).ravel()
-        backward, _ = _sequential_fit(
-            X0[:, columns], mask[:, columns], points[:, order], seen[:, order]
-        )
-        fits = [forward, backward[order]]
+        # frames added forwards and backwards from the first and the last
+        # well-seen frames; the fit that leaves the fewer tracks far from it
+        # is kept (either order can settle badly)
+        fits = []
+        for order in _frame_orders(seen):
+            columns = np.column_stack([2 * order, 2 * order + 1]).ravel()
+            fitted, _ = _sequential_fit(
+                X0[:, columns], mask[:, columns], points[:, order], seen[:, order]
+            )
+            restored = np.empty_like(fitted)
+            restored[order] = fitted
+            fits.append(restored)
         spreads = [_misfit_quantile(c, X0, mask, supported) for c in fits]
         cameras = fits[int(np.argmin(spreads))]
     else:

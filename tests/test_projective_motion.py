@@ -218,3 +218,20 @@ def test_segment_motions_reports_the_perspective_candidates():
     )
     assert plain.candidates == ["gpca"]
     np.testing.assert_array_equal(plain.refined[0], info.refined[0])
+
+
+def test_a_motion_seen_only_mid_sequence_is_fitted():
+    """The sequential fit starts where the motion is seen (an object that
+    enters and leaves the view), not at the first frame."""
+    noise = 1e-3
+    X, _ = _scene(noise=noise, speed=4.0, seed=1, n_frames=20)
+    X[:, :10] = np.nan
+    X[:, 30:] = np.nan
+    X = X[~np.isnan(X).all(axis=1)]
+    X0, mask = observed_entries(X)
+    cameras, supported = fit_projective_motion(X0, mask)
+    np.testing.assert_array_equal(
+        supported, (np.arange(20) >= 5) & (np.arange(20) < 15)
+    )
+    residuals, dofs = projective_residuals(X0, mask, cameras, supported)
+    assert np.median(residuals[dofs > 0] / dofs[dofs > 0]) < 2.0 * noise**2
