@@ -13,11 +13,12 @@ one (projective factorisation, Sturm & Triggs, ECCV 1996)::
 with one ``3 x 4`` camera ``P_f`` per frame and one point ``X_p`` of the
 projective space ``P^3`` per track. It is fitted here on the observed points
 only, by minimising the reprojection error ``sum ||x_fp - pi(P_f X_p)||^2``
-over the seen point-frames with alternating damped Gauss-Newton steps on the
+over the seen point-frames with alternating Levenberg-Marquardt steps on the
 points (intersection) and on the cameras (resection), the frames added one at a
-time (sequential structure from motion): started on all frames at once, a
-forward-moving camera often settles in a reconstruction that leaves a third
-of the tracks unfitted. Every step is batched over tracks or frames.
+time (sequential structure from motion), forwards and backwards, the better of
+the two fits kept: started on all frames at once, a forward-moving camera often
+settles in a reconstruction that leaves a third of the tracks unfitted. Every
+step is batched over tracks or frames.
 
 A track seen in ``m`` frames keeps ``2 m - 4`` residual degrees of freedom,
 counted as for a 4-D subspace (four parameters per track, where its point has
@@ -38,6 +39,7 @@ MIN_CAMERA_POINTS = 6
 #: step, relative to the mean diagonal of its normal equations (a step is
 #: kept only where it lowers that point's or camera's reprojection error).
 MIN_DAMPING, MAX_DAMPING = 1e-9, 1e6
+#: The damping each run of alternations starts from.
 START_DAMPING = 1e-6
 #: Alternations after each frame added, on the frames of the last window.
 STEP_ITERATIONS = 4
@@ -400,7 +402,7 @@ def projective_residuals(X0, mask, cameras, supported):
     """Reprojection residual of every track to a perspective motion.
 
     Each track's point is triangulated from the cameras of the frames it is
-    seen in (linear triangulation, then Gauss-Newton steps on the reprojection
+    seen in (linear triangulation, then Levenberg-Marquardt steps on the reprojection
     error); frames outside ``supported`` are ignored.
 
     Parameters
