@@ -23,7 +23,10 @@ sequence -- and returns one motion label per track. Beyond the paper
    the tracks too short to carry evidence from their neighbours; then each
    refined again with its largest motion (the background of tracker output)
    modelled by a perspective camera instead of a 4-D subspace
-   (:mod:`sklearn_gpca._projective_motion`), both sets kept as candidates;
+   (:mod:`sklearn_gpca._projective_motion`), both sets kept as candidates; a
+   refinement that empties a motion (fewer than ``subspace_dim + 1`` tracks)
+   gives it the smaller half of the largest motion and refines again
+   (:mod:`sklearn_gpca._reseed_motions`);
 3. one refined candidate kept (:mod:`sklearn_gpca._segment_selection`): the
    shortest coding length among the candidates that leave the fewest tracks
    ambiguous between two motions (or, ``selection="coding_length"``, the
@@ -69,6 +72,7 @@ from sklearn_gpca._observed_subspaces import (
 from sklearn_gpca._outliers import screened_segmentation
 from sklearn_gpca._peel_starts import peel_candidates
 from sklearn_gpca._refine_observed import refine_observed, refinement_objective
+from sklearn_gpca._reseed_motions import reseed_empty_motions
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
     coding_length,
@@ -676,16 +680,47 @@ def segment_motions(
         max_iter=max_iter,
         random_state=random_state,
     )
-    refined, n_iters = [], []
-    for start in initial:
+
+    def refine_once(start, perspective):
+        # outliers of a previous refinement start in the largest motion (the
+        # background), which the perspective camera models
+        background = int(np.argmax(np.bincount(start[start >= 0], minlength=n_motions)))
         labels, _, _, n_iter, _ = refine_observed(
             X0,
             mask,
-            start,
+            np.where(start >= 0, start, background),
             n_motions,
             outlier_threshold=outlier_threshold,
+            perspective_cluster=background if perspective else None,
             **refine_kwargs,
         )
+        return labels, n_iter
+
+    def refine(start, perspective=False):
+        """Refine ``start``; re-seed the motions that empties, refine again."""
+        labels, n_iter = refine_once(start, perspective)
+        if n_motions == 1:
+            return labels, n_iter
+        reseeded = reseed_empty_motions(
+            X0,
+            mask,
+            labels,
+            n_motions,
+            affinity,
+            noise,
+            min_tracks=subspace_dim + 1,
+            min_size=MIN_FRAGMENT_SIZE,
+            per_fragment=TRACKS_PER_FRAGMENT,
+            random_state=random_state,
+        )
+        if reseeded is not None:
+            labels, rounds = refine_once(reseeded, perspective)
+            n_iter += rounds
+        return labels, n_iter
+
+    refined, n_iters = [], []
+    for start in initial:
+        labels, n_iter = refine(start)
         refined.append(labels)
         n_iters.append(n_iter)
     if perspective_background and n_motions > 1:
@@ -694,25 +729,12 @@ def segment_motions(
         # candidates (up to the names of the labels) are refined once
         done = {}
         for k in range(len(refined)):
-            start = refined[k]
-            background = int(
-                np.argmax(np.bincount(start[start >= 0], minlength=n_motions))
-            )
-            start = np.where(start >= 0, start, background)
-            key = _partition_key(start)
+            key = _partition_key(refined[k])
             if key not in done:
-                done[key] = refine_observed(
-                    X0,
-                    mask,
-                    start,
-                    n_motions,
-                    outlier_threshold=outlier_threshold,
-                    perspective_cluster=background,
-                    **refine_kwargs,
-                )
-            labels, _, _, n_iter, _ = done[key]
+                done[key] = refine(refined[k], perspective=True)
+            labels, n_iter = done[key]
             names.append(f"{names[k]} + perspective background")
-            initial.append(start)
+            initial.append(refined[k])
             refined.append(labels)
             n_iters.append(n_iter)
     # candidates are compared on the tracks none of them calls an outlier
