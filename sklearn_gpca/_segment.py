@@ -519,8 +519,8 @@ def segment_motions(
         where the perspective background fits every one of its tracks to
         the noise. Measured (``benchmarks/results/perspective_background*.md``,
         ``make_tracks`` draws with the outlier tracks removed): seeds 0-3
-        9.4 % against 12.5 % without, held-out seeds 20-23 10.2 % against
-        12.2 % (hand-held scenes 4.5 against 10.4 %, 15.5 against 28.3 %);
+        8.65 % against 11.73 % without, held-out seeds 20-23 10.54 % against
+        12.53 % (hand-held scenes 4.5 against 10.4 %, 15.5 against 28.3 %);
         about 1.5-2 times the time. False: the subspace candidates only.
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
