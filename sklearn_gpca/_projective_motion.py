@@ -49,6 +49,8 @@ STEP_WINDOW = 10
 FINAL_ITERATIONS = 20
 #: Alternations of a fit started from given cameras.
 WARM_ITERATIONS = 10
+#: RMS of the coordinates taken as they are; outside, they are rescaled.
+ORDER_ONE = (2.0**-4, 2.0**4)
 # Tracks per chunk of the batched steps: their (tracks, 2 F, 4) temporaries
 # stay small.
 _CHUNK = 2**12
@@ -345,27 +347,8 @@ def _sequential_fit(X0, mask, points, seen):
     return _alternate(cameras, world, points, seen, FINAL_ITERATIONS, fit_rows)
 
 
-def fit_projective_motion(X0, mask, *, cameras=None):
-    """Perspective cameras of one rigid motion from its tracks.
-
-    Parameters
-    ----------
-    X0 : ndarray of shape (n_tracks, 2 * n_frames)
-        Tracks of the motion, zero where missing.
-    mask : ndarray of shape (n_tracks, 2 * n_frames), dtype=bool
-        Observed entries.
-    cameras : ndarray of shape (n_frames, 3, 4), default=None
-        Start (e.g. the previous fit in K-subspaces): ``WARM_ITERATIONS``
-        alternations on all frames. None fits from scratch, frame by frame.
-
-    Returns
-    -------
-    cameras : ndarray of shape (n_frames, 3, 4)
-        Unit Frobenius norm each.
-    supported : ndarray of shape (n_frames,), dtype=bool
-        Frames seen by at least ``MIN_CAMERA_POINTS`` of the tracks (seen in
-        two frames or more); the cameras of the others are not determined.
-    """
+def _fit(X0, mask, cameras):
+    """:func:`fit_projective_motion` on coordinates of order 1."""
     points, seen = track_frames(X0, mask)
     informative = np.count_nonzero(seen, axis=1) >= 2
     supported = np.count_nonzero(seen[informative], axis=0) >= MIN_CAMERA_POINTS
@@ -393,35 +376,13 @@ def fit_projective_motion(X0, mask, *, cameras=None):
 
 def _misfit_quantile(cameras, X0, mask, supported, quantile=0.9):
     """A high quantile of the tracks' reprojection error per degree of freedom."""
-    residuals, dofs = projective_residuals(X0, mask, cameras, supported)
+    residuals, dofs = _residuals(X0, mask, cameras, supported)
     per_dof = residuals[dofs > 0] / dofs[dofs > 0]
     return float(np.quantile(per_dof, quantile)) if per_dof.size else 0.0
 
 
-def projective_residuals(X0, mask, cameras, supported):
-    """Reprojection residual of every track to a perspective motion.
-
-    Each track's point is triangulated from the cameras of the frames it is
-    seen in (linear triangulation, then Levenberg-Marquardt steps on the reprojection
-    error); frames outside ``supported`` are ignored.
-
-    Parameters
-    ----------
-    X0 : ndarray of shape (n_tracks, 2 * n_frames)
-        Tracks, zero where missing.
-    mask : ndarray of shape (n_tracks, 2 * n_frames), dtype=bool
-        Observed entries.
-    cameras : ndarray of shape (n_frames, 3, 4)
-    supported : ndarray of shape (n_frames,), dtype=bool
-        From :func:`fit_projective_motion`.
-
-    Returns
-    -------
-    residuals : ndarray of shape (n_tracks,)
-        Squared reprojection errors summed over the frames used.
-    dofs : ndarray of shape (n_tracks,), dtype=intp
-        ``max(2 m - 4, 0)`` for ``m`` frames used (see the module doc).
-    """
+def _residuals(X0, mask, cameras, supported):
+    """:func:`projective_residuals` on coordinates of order 1."""
     points, seen = track_frames(X0, mask)
     seen = seen & supported[None, :]
     world = triangulate(cameras, points, seen)
@@ -436,3 +397,79 @@ def projective_residuals(X0, mask, cameras, supported):
         residuals[rows] = np.sum(np.where(seen[rows], squared, 0.0), axis=1)
     counts = np.count_nonzero(seen, axis=1)
     return residuals, np.maximum(2 * counts - 4, 0).astype(np.intp)
+
+
+def _image_scale(X0, mask):
+    """1 for coordinates of order 1, else the power of two nearest the RMS of
+    the observed coordinates: dividing by it is exact and leaves the linear
+    triangulations and resections coordinates of order 1 (pixels, say)."""
+    observed = X0[mask]
+    rms = float(np.sqrt(np.mean(observed**2))) if observed.size else 0.0
+    if not (np.isfinite(rms) and rms > 0) or ORDER_ONE[0] <= rms <= ORDER_ONE[1]:
+        return 1.0
+    return float(2.0 ** np.round(np.log2(rms)))
+
+
+def _rescaled(cameras, factor):
+    """Cameras for image coordinates multiplied by ``factor``."""
+    return cameras * np.array([factor, factor, 1.0])[None, :, None]
+
+
+def fit_projective_motion(X0, mask, *, cameras=None):
+    """Perspective cameras of one rigid motion from its tracks.
+
+    Parameters
+    ----------
+    X0 : ndarray of shape (n_tracks, 2 * n_frames)
+        Tracks of the motion, zero where missing, in any units (they are
+        divided by the power of two nearest the RMS of the observed entries
+        while fitting).
+    mask : ndarray of shape (n_tracks, 2 * n_frames), dtype=bool
+        Observed entries.
+    cameras : ndarray of shape (n_frames, 3, 4), default=None
+        Start (e.g. the previous fit in K-subspaces): ``WARM_ITERATIONS``
+        alternations on all frames. None fits from scratch, frame by frame.
+
+    Returns
+    -------
+    cameras : ndarray of shape (n_frames, 3, 4)
+        One camera per frame, for the units of ``X0``.
+    supported : ndarray of shape (n_frames,), dtype=bool
+        Frames seen by at least ``MIN_CAMERA_POINTS`` of the tracks (seen in
+        two frames or more); the cameras of the others are not determined.
+    """
+    scale = _image_scale(X0, mask)
+    start = None if cameras is None else _rescaled(cameras, 1 / scale)
+    fitted, supported = _fit(X0 / scale, mask, start)
+    return _rescaled(fitted, scale), supported
+
+
+def projective_residuals(X0, mask, cameras, supported):
+    """Reprojection residual of every track to a perspective motion.
+
+    Each track's point is triangulated from the cameras of the frames it is
+    seen in (linear triangulation, then Levenberg-Marquardt steps on the
+    reprojection error); frames outside ``supported`` are ignored.
+
+    Parameters
+    ----------
+    X0 : ndarray of shape (n_tracks, 2 * n_frames)
+        Tracks, zero where missing, in the units of the fit.
+    mask : ndarray of shape (n_tracks, 2 * n_frames), dtype=bool
+        Observed entries.
+    cameras : ndarray of shape (n_frames, 3, 4)
+    supported : ndarray of shape (n_frames,), dtype=bool
+        From :func:`fit_projective_motion`.
+
+    Returns
+    -------
+    residuals : ndarray of shape (n_tracks,)
+        Squared reprojection errors summed over the frames used.
+    dofs : ndarray of shape (n_tracks,), dtype=intp
+        ``max(2 m - 4, 0)`` for ``m`` frames used (see the module doc).
+    """
+    scale = _image_scale(X0, mask)
+    residuals, dofs = _residuals(
+        X0 / scale, mask, _rescaled(cameras, 1 / scale), supported
+    )
+    return residuals * scale**2, dofs

@@ -235,3 +235,12 @@ def test_a_motion_seen_only_mid_sequence_is_fitted():
     )
     residuals, dofs = projective_residuals(X0, mask, cameras, supported)
     assert np.median(residuals[dofs > 0] / dofs[dofs > 0]) < 2.0 * noise**2
+
+
+@pytest.mark.parametrize("scale", [2.0**-20, 1.0, 640.0, 2.0**30])
+def test_units_do_not_matter(scale):
+    """Pixels or normalised units: the same fit, residuals in the data's units."""
+    noise = 1e-3
+    X, _ = _scene(noise=noise, speed=4.0, seed=1)
+    base = np.median(_per_dof(X))
+    assert np.median(_per_dof(scale * X)) / scale**2 == pytest.approx(base, rel=1e-6)

@@ -14,6 +14,10 @@ from sklearn_gpca._observed_subspaces import (
     observed_entries,
     subspace_residuals,
 )
+from sklearn_gpca._projective_motion import (
+    fit_projective_motion,
+    projective_residuals,
+)
 
 
 def _check_oracle_input(X, y_true):
@@ -36,10 +40,11 @@ def _check_oracle_input(X, y_true):
         "X": ["array-like"],
         "y_true": ["array-like"],
         "subspace_dim": [Interval(Integral, 1, None, closed="left")],
+        "perspective_background": ["boolean"],
     },
     prefer_skip_nested_validation=True,
 )
-def oracle_labels(X, y_true, subspace_dim=4):
+def oracle_labels(X, y_true, subspace_dim=4, *, perspective_background=False):
     """Each track to the nearest true motion subspace, on its observed entries.
 
     One linear subspace of dimension ``subspace_dim`` of ``R^{2F}`` is fitted
@@ -61,6 +66,13 @@ def oracle_labels(X, y_true, subspace_dim=4):
     subspace_dim : int, default=4
         Dimension of every motion subspace (4 for a rigid motion seen by an
         affine camera).
+    perspective_background : bool, default=False
+        Model the largest true group (the background of tracker output) by a
+        perspective camera per frame instead of a subspace
+        (``sklearn_gpca._projective_motion``, as
+        ``segment_motions(perspective_background=True)`` does), its residual
+        counted with ``2 m - 4`` degrees of freedom for a track seen in ``m``
+        frames: the oracle of a model that holds a deep static scene.
 
     Returns
     -------
@@ -93,14 +105,21 @@ def oracle_labels(X, y_true, subspace_dim=4):
     labels = np.full(y_true.shape, -1, dtype=y_true.dtype)
     if groups.size == 0:
         return labels
-    fits = [
-        fit_observed_subspace(X0[y_true == g], mask[y_true == g], subspace_dim)
-        for g in groups
-    ]
     inliers = y_true != -1
-    residuals, dofs = subspace_residuals(
-        X0[inliers], mask[inliers], [b for b, _ in fits], [s for _, s in fits]
-    )
+    residuals = np.empty((int(inliers.sum()), groups.size))
+    dofs = np.empty((int(inliers.sum()), groups.size), dtype=np.intp)
+    background = int(np.argmax(counts))
+    for k, g in enumerate(groups):
+        members = y_true == g
+        if perspective_background and k == background:
+            cameras, supported = fit_projective_motion(X0[members], mask[members])
+            residuals[:, k], dofs[:, k] = projective_residuals(
+                X0[inliers], mask[inliers], cameras, supported
+            )
+            continue
+        basis, support = fit_observed_subspace(X0[members], mask[members], subspace_dim)
+        r, d = subspace_residuals(X0[inliers], mask[inliers], [basis], [support])
+        residuals[:, k], dofs[:, k] = r[:, 0], d[:, 0]
     per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
     nearest = groups[np.argmin(per_dof, axis=1)]
     nearest[~np.isfinite(per_dof).any(axis=1)] = groups[np.argmax(counts)]
