@@ -25,9 +25,9 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     hypotheses (as :class:`PerspectiveClustering`; ``init="auto"`` leaves
     them out) are refined by smoothed
     K-subspaces on each track's observed entries in ``R^{2F}``, and one is
-    kept by ``selection`` (the shortest coding length among the candidates
-    leaving the fewest tracks ambiguous between two motions, or the shortest
-    coding length);
+    kept by ``selection`` (by default the best fit among the candidates
+    whose own motion models, a perspective camera for the largest, explain
+    the most tracks better than the other motions' models do);
     optionally, tracks that fit no motion are labelled ``-1``. See
     :func:`segment_motions` for the stages and every parameter.
 
@@ -39,8 +39,8 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     init : {"auto", "all", "fragments", "gpca", "votes", "peel"}, default="all"
         Candidate segmentations (see :func:`segment_motions`).
 
-    selection : {"separability", "fitted_separability", "coding_length"}, \
-            default="separability"
+    selection : {"consistency", "separability", "fitted_separability", \
+            "coding_length"}, default="consistency"
         How the refined candidate is kept (see :func:`segment_motions`).
 
     merge_split : bool, default=False
@@ -96,6 +96,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         Share of ambiguous tracks of each refined candidate (see
         :func:`sklearn_gpca._segment_selection.ambiguous_fraction`).
 
+    inconsistency_ : ndarray of shape (n_candidates,)
+        Share of tracks nearer another motion's model than their own, for
+        each refined candidate (see
+        :func:`sklearn_gpca._model_consistency.model_consistency`).
+
     objectives_ : ndarray of shape (n_candidates,)
         Value of the refinement's objective at each refined candidate (see
         :func:`sklearn_gpca._refine_observed.refinement_objective`; lower fits
@@ -135,7 +140,9 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         "n_clusters": [Count(1, None, closed="left")],
         "init": [StrOptions({"auto", "all", "fragments", "gpca", "votes", "peel"})],
         "selection": [
-            StrOptions({"coding_length", "separability", "fitted_separability"})
+            StrOptions(
+                {"consistency", "coding_length", "separability", "fitted_separability"}
+            )
         ],
         "merge_split": ["boolean"],
         "subspace_dim": [Count(1, None, closed="left")],
@@ -154,7 +161,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         n_clusters=2,
         *,
         init="all",
-        selection="separability",
+        selection="consistency",
         merge_split=False,
         subspace_dim=4,
         smoothing=3.0,
@@ -226,6 +233,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.candidates_ = list(info.candidates)
         self.coding_lengths_ = np.asarray(info.get("coding_lengths", []), dtype=float)
         self.ambiguity_ = np.asarray(info.get("ambiguity", []), dtype=float)
+        self.inconsistency_ = np.asarray(info.get("inconsistency", []), dtype=float)
         self.objectives_ = np.asarray(info.get("objectives", []), dtype=float)
         self.chosen_ = self.candidates_[info.chosen] if info.chosen >= 0 else "trivial"
         self.noise_ = float(info.get("noise", np.nan))

@@ -3,8 +3,9 @@
 - :func:`coding_length`: the lossy coding length of the segmented tracks;
 - :func:`ambiguous_fraction`: the share of tracks that another motion fits
   nearly as well as their own (how separable the segmentation's motions are);
-- :func:`select_segmentation`: the rule of
-  :func:`sklearn_gpca.segment_motions` (``selection``) that combines them.
+- :func:`select_segmentation`: the rules of
+  :func:`sklearn_gpca.segment_motions` (``selection``) that combine them and
+  :func:`sklearn_gpca._model_consistency.model_consistency`.
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -146,7 +147,25 @@ def ambiguous_fraction(X0, mask, labels, noise, *, subspace_dim=4, ratio=2.0):
     return float(np.mean(ambiguous))
 
 
-def select_segmentation(coding_lengths, ambiguity, *, selection, tolerance):
+def _least_within(primary, secondary, tolerance):
+    """Least ``secondary`` among the ``primary`` within ``tolerance`` of the
+    least (NaN ``primary``: not eligible unless all are NaN)."""
+    judged = ~np.isnan(primary)
+    if not judged.any():
+        return int(np.argmin(secondary))
+    eligible = judged & (primary <= primary[judged].min() + tolerance)
+    return int(np.argmin(np.where(eligible, secondary, np.inf)))
+
+
+def select_segmentation(
+    coding_lengths,
+    ambiguity,
+    *,
+    selection,
+    tolerance,
+    inconsistency=None,
+    residual=None,
+):
     """Index of the segmentation kept among refined candidates.
 
     Parameters
@@ -158,13 +177,19 @@ def select_segmentation(coding_lengths, ambiguity, *, selection, tolerance):
         that cannot be judged (fewer than two motions left after its
         refinement): ``"separability"`` keeps it only when no candidate can
         be judged.
-    selection : {"coding_length", "separability"}
+    selection : {"coding_length", "separability", "consistency"}
         ``"coding_length"``: the shortest coding length. ``"separability"``:
         the shortest coding length among the candidates whose ambiguous
-        fraction is within ``tolerance`` of the smallest.
+        fraction is within ``tolerance`` of the smallest. ``"consistency"``:
+        the smallest ``residual`` among the candidates whose
+        ``inconsistency`` is within ``tolerance`` of the smallest (NaN: not
+        eligible, as for ``"separability"``).
     tolerance : float
-        Slack on the ambiguous fraction (a share of the tracks);
-        ``segment_motions`` passes ``AMBIGUITY_TOLERANCE``.
+        Slack on the ambiguous fraction or the inconsistency (a share of the
+        tracks).
+    inconsistency, residual : array-like of shape (n_candidates,), default=None
+        :func:`sklearn_gpca._model_consistency.model_consistency` of each
+        candidate; needed by ``"consistency"`` only.
 
     Returns
     -------
@@ -179,12 +204,26 @@ def select_segmentation(coding_lengths, ambiguity, *, selection, tolerance):
         )
     if selection == "coding_length":
         return int(np.argmin(coding_lengths))
-    if selection != "separability":
+    if selection == "separability":
+        return _least_within(ambiguity, coding_lengths, tolerance)
+    if selection != "consistency":
         raise ValueError(
-            f"selection must be 'coding_length' or 'separability', got {selection!r}."
+            "selection must be 'coding_length', 'separability' or 'consistency', "
+            f"got {selection!r}."
         )
-    judged = ~np.isnan(ambiguity)
-    if not judged.any():
-        return int(np.argmin(coding_lengths))
-    eligible = judged & (ambiguity <= ambiguity[judged].min() + tolerance)
-    return int(np.argmin(np.where(eligible, coding_lengths, np.inf)))
+    if inconsistency is None or residual is None:
+        raise ValueError("selection='consistency' needs inconsistency and residual.")
+    inconsistency = np.asarray(inconsistency, dtype=float)
+    residual = np.asarray(residual, dtype=float)
+    if inconsistency.shape != coding_lengths.shape or residual.shape != (
+        coding_lengths.shape
+    ):
+        raise ValueError(
+            "inconsistency and residual must have one value per candidate "
+            f"({coding_lengths.size}), got shapes {inconsistency.shape} and "
+            f"{residual.shape}."
+        )
+    # a candidate without a judgement has no residual either: never the least
+    return _least_within(
+        inconsistency, np.where(np.isnan(residual), np.inf, residual), tolerance
+    )

@@ -206,7 +206,11 @@ def test_segment_motions_reports_the_perspective_candidates():
     _, info = segment_motions(
         X, 3, screen_outliers=False, init="gpca", random_state=0, return_info=True
     )
-    assert info.candidates == ["gpca", "gpca + perspective background"]
+    assert info.candidates == [
+        "gpca",
+        "gpca + perspective background",
+        "gpca + perspective background, from its start",
+    ]
     _, plain = segment_motions(
         X,
         3,

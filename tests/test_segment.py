@@ -233,9 +233,16 @@ def test_segment_motions_labels_short_tracks():
 def test_segment_motions_info_and_given_init():
     X, y = _draw()
     labels, info = segment_motions(X, 3, init=y, random_state=0, return_info=True)
-    assert info.candidates == ["given", "given + perspective background"]
-    assert info.chosen in (0, 1)
+    assert info.candidates == [
+        "given",
+        "given + perspective background",
+        "given + perspective background, from its start",
+    ]
+    assert info.chosen in (0, 1, 2)
+    # the perspective refinements start from the refined labels and the start
     np.testing.assert_array_equal(info.initial[1], info.refined[0])
+    np.testing.assert_array_equal(info.initial[2], info.initial[0])
+    assert info.inconsistency.shape == info.residuals.shape == (3,)
     assert misclassification_rate(y, labels) == 0.0
 
 
@@ -367,7 +374,11 @@ def test_segment_motions_votes_candidate_segments_tracks():
     X, y = make_tracks(3, scene="lab", n_tracks=200, n_frames=20, random_state=0)
     X[:5, 2:] = np.nan  # tracks seen in one frame cast no vote
     labels, info = segment_motions(X, 3, init="votes", random_state=0, return_info=True)
-    assert info.candidates == ["votes", "votes + perspective background"]
+    assert info.candidates == [
+        "votes",
+        "votes + perspective background",
+        "votes + perspective background, from its start",
+    ]
     assert set(labels) <= {0, 1, 2}
     assert misclassification_rate(y, info.initial[0]) < 0.05
     assert misclassification_rate(y, labels) < 0.03

@@ -7,7 +7,11 @@ import pytest
 
 from sklearn_gpca import MotionSegmentation
 from sklearn_gpca._observed_subspaces import observed_entries
-from sklearn_gpca._segment import AMBIGUITY_TOLERANCE, segment_motions
+from sklearn_gpca._segment import (
+    AMBIGUITY_TOLERANCE,
+    CONSISTENCY_TOLERANCE,
+    segment_motions,
+)
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
     coding_length,
@@ -117,21 +121,30 @@ def test_select_candidate_bad_input(lengths, ambiguity, selection, match):
         select_segmentation(lengths, ambiguity, selection=selection, tolerance=0.02)
 
 
-@pytest.mark.parametrize("selection", ["coding_length", "separability"])
+@pytest.mark.parametrize("selection", ["coding_length", "separability", "consistency"])
 def test_segment_motions_selection_wiring(selection):
     X, _ = make_motions(2, n_points=[80, 60], n_frames=10, missing=0.2, random_state=0)
     # without screening, the info describes every track
     kwargs = dict(init="all", selection=selection, screen_outliers=False)
     labels, info = segment_motions(X, 2, random_state=0, return_info=True, **kwargs)
     routes = ["gpca", "fragments", "votes"]
-    assert info.candidates == routes + [f"{r} + perspective background" for r in routes]
-    assert info.ambiguity.shape == info.coding_lengths.shape == (6,)
+    assert info.candidates == routes + [
+        f"{r} + perspective background{suffix}"
+        for r in routes
+        for suffix in ("", ", from its start")
+    ]
+    assert info.ambiguity.shape == info.coding_lengths.shape == (9,)
     assert np.all((info.ambiguity >= 0) & (info.ambiguity <= 1))
+    assert np.all((info.inconsistency >= 0) & (info.inconsistency <= 1))
     expected = select_segmentation(
         info.coding_lengths,
         info.ambiguity,
         selection=selection,
-        tolerance=AMBIGUITY_TOLERANCE,
+        tolerance=(
+            CONSISTENCY_TOLERANCE if selection == "consistency" else AMBIGUITY_TOLERANCE
+        ),
+        inconsistency=info.inconsistency,
+        residual=info.residuals,
     )
     assert info.chosen == expected
     assert np.array_equal(labels, info.refined[expected])
@@ -160,7 +173,11 @@ def test_default_candidates_include_votes_and_rule_uses_smaller_subspaces():
         X, 2, random_state=0, return_info=True, screen_outliers=False
     )
     routes = ["gpca", "fragments", "votes"]
-    assert info.candidates == routes + [f"{r} + perspective background" for r in routes]
+    assert info.candidates == routes + [
+        f"{r} + perspective background{suffix}"
+        for r in routes
+        for suffix in ("", ", from its start")
+    ]
     # the ambiguity of each candidate is measured with 3-D subspaces
     X0, mask = observed_entries(X)
     X0 = X0 / info.scale

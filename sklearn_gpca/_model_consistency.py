@@ -1,0 +1,110 @@
+"""How well a segmentation's own motion models explain its tracks.
+
+:func:`model_consistency` fits one model per group of a candidate
+segmentation (a perspective camera per frame for the largest group, the
+background of tracker output; a linear subspace for the others) and measures
+
+- the share of tracks that another group's model fits better than their own
+  (per residual degree of freedom): a segmentation that merges two motions
+  or cuts one in two leaves tracks nearer another group's model than their
+  own, the true one leaves few;
+- the residual of every track to its own model, capped, summed: the fit.
+
+:func:`sklearn_gpca.segment_motions` (``selection="consistency"``) keeps the
+best-fitting candidate among the nearly most consistent ones.
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+
+from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_residuals
+from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
+
+#: Fewest tracks of the group modelled by a perspective camera; a smaller
+#: largest group gets a subspace.
+MIN_PROJECTIVE_TRACKS = 12
+#: Cap on a track's residual per degree of freedom, in noise variances: a
+#: track 5 noise deviations from its model counts as a misfit, no more, so
+#: that a few tracks that fit no model cannot decide the comparison.
+RESIDUAL_CAP = 25.0
+
+
+def model_consistency(
+    X0,
+    mask,
+    labels,
+    noise,
+    *,
+    subspace_dim=4,
+    perspective_background=True,
+    cameras=None,
+):
+    """Share of tracks nearer another group's model, and the capped fit.
+
+    Parameters
+    ----------
+    X0 : ndarray of shape (n_samples, n_features)
+        Tracks, zero where missing.
+    mask : ndarray of shape (n_samples, n_features), dtype=bool
+        Observed entries.
+    labels : ndarray of shape (n_samples,)
+        Non-negative group of each track.
+    noise : float
+        Noise variance per coordinate, ``> 0``.
+    subspace_dim : int, default=4
+        Dimension of the subspace of every group but the perspective one.
+    perspective_background : bool, default=True
+        Model the largest group (when it holds at least
+        ``MIN_PROJECTIVE_TRACKS`` tracks) by one ``3 x 4`` camera per frame
+        (:func:`sklearn_gpca._projective_motion.fit_projective_motion`); False:
+        every group by a subspace.
+    cameras : ndarray of shape (n_frames, 3, 4), default=None
+        A start for the perspective cameras (e.g. those of a refinement of
+        the same tracks): a few alternations from it instead of the
+        sequential fit.
+
+    Returns
+    -------
+    inconsistency : float
+        Share of the testable tracks (a residual degree of freedom in their
+        own model) whose residual per degree of freedom is smaller in another
+        group's model; NaN when fewer than two groups can be modelled (more
+        than ``subspace_dim + 1`` tracks each).
+    residual : float
+        Sum over the testable tracks of their residual per degree of freedom
+        in their own model, capped at ``RESIDUAL_CAP * noise``, over ``noise``.
+    """
+    groups, index = np.unique(labels, return_inverse=True)
+    sizes = np.bincount(index, minlength=groups.size)
+    modelled = np.flatnonzero(sizes > subspace_dim + 1)
+    if modelled.size < 2:
+        return np.nan, np.nan
+    largest = int(np.argmax(sizes))
+    per_dof = np.full((labels.size, groups.size), np.inf)
+    for g in modelled:
+        members = index == g
+        if (
+            perspective_background
+            and g == largest
+            and sizes[g] >= MIN_PROJECTIVE_TRACKS
+        ):
+            cameras, supported = fit_projective_motion(
+                X0[members], mask[members], cameras=cameras
+            )
+            residuals, dofs = projective_residuals(X0, mask, cameras, supported)
+        else:
+            basis, support = fit_observed_subspace(
+                X0[members], mask[members], subspace_dim
+            )
+            residuals, dofs = subspace_residuals(X0, mask, [basis], [support])
+            residuals, dofs = residuals[:, 0], dofs[:, 0]
+        per_dof[:, g] = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+    own = per_dof[np.arange(labels.size), index]
+    testable = np.isfinite(own)
+    if not testable.any():
+        return np.nan, np.nan
+    nearest = np.argmin(per_dof[testable], axis=1)
+    inconsistency = float(np.mean(nearest != index[testable]))
+    residual = float(np.sum(np.minimum(own[testable], RESIDUAL_CAP * noise)) / noise)
+    return inconsistency, residual

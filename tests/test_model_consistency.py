@@ -1,0 +1,124 @@
+"""Tests for the consistency of a segmentation with its own motion models."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+import pytest
+
+from sklearn_gpca._model_consistency import model_consistency
+from sklearn_gpca._observed_subspaces import observed_entries
+from sklearn_gpca._segment_selection import select_segmentation
+from sklearn_gpca.datasets import make_tracks
+
+
+def _subspaces(sizes=(120, 60, 60), n_frames=12, missing=0.0, seed=0):
+    """Tracks on random 4-D subspaces of R^{2F}, unit noise."""
+    rng = np.random.RandomState(seed)
+    blocks, labels = [], []
+    for k, size in enumerate(sizes):
+        basis = np.linalg.qr(rng.standard_normal((2 * n_frames, 4)))[0]
+        blocks.append(100.0 * rng.standard_normal((size, 4)) @ basis.T)
+        labels.append(np.full(size, k))
+    X = np.vstack(blocks) + rng.standard_normal((sum(sizes), 2 * n_frames))
+    unseen = rng.rand(X.shape[0], n_frames) < missing
+    X[np.repeat(unseen, 2, axis=1)] = np.nan
+    return X, np.concatenate(labels)
+
+
+@pytest.mark.parametrize("missing", [0.0, 0.3])
+@pytest.mark.parametrize("seed", range(2))
+def test_truth_is_consistent_and_fits_best(missing, seed):
+    X, y = _subspaces(missing=missing, seed=seed)
+    X0, mask = observed_entries(X)
+    rng = np.random.default_rng(seed)
+    # motions 1 and 2 merged, motion 0 cut in two
+    merged = np.where(y == 2, 1, y)
+    merged[np.flatnonzero(y == 0)[::2]] = 2
+    # 30 % of the tracks relabelled at random
+    mixed = y.copy()
+    moved = rng.choice(y.size, 3 * y.size // 10, replace=False)
+    mixed[moved] = (y[moved] + rng.integers(1, 3, moved.size)) % 3
+    truth, fit = model_consistency(X0, mask, y, 1.0, perspective_background=False)
+    assert truth == 0.0
+    # per degree of freedom, unit noise: the true fit is about 1 per track
+    assert fit == pytest.approx(y.size, rel=0.15)
+    wrong, wrong_fit = model_consistency(
+        X0, mask, merged, 1.0, perspective_background=False
+    )
+    # the merged motions misfit their 4-D subspace by far (capped at 25)
+    assert wrong_fit > 10 * fit
+    assert wrong > 0.05
+    # tracks of another motion in a group stay nearer their true motion
+    assert model_consistency(X0, mask, mixed, 1.0, perspective_background=False)[
+        0
+    ] == pytest.approx(0.3, abs=0.12)
+
+
+def test_perspective_background_is_consistent_where_subspaces_are_not():
+    # 100 hand-held frames: the background spans no 4-D subspace
+    X, y = make_tracks(scene="handheld", n_tracks=400, random_state=3)
+    X, y = X[y >= 0], y[y >= 0]
+    X0, mask = observed_entries(X)
+    X0 = X0 / np.sqrt(np.mean(X0[mask] ** 2))
+    background = np.argmax(np.bincount(y))
+    first = np.argmax(mask[:, ::2], axis=1)
+    x = X0[np.arange(y.size), 2 * first]
+    right = (y == background) & (x > np.median(x[y == background]))
+    # the background cut in two, the objects merged
+    cut = np.where(right, 2, np.where(y == background, 0, 1))
+    noise = 1e-6
+    truth = model_consistency(X0, mask, y, noise)[0]
+    affine = model_consistency(X0, mask, y, noise, perspective_background=False)[0]
+    wrong = model_consistency(X0, mask, cut, noise)[0]
+    assert truth < 0.02 < affine
+    assert wrong > truth + 0.1
+
+
+def test_too_few_modelled_groups_give_nan():
+    X, y = _subspaces(sizes=(40, 5), n_frames=8)
+    X0, mask = observed_entries(X)
+    # the 5 tracks of group 1 are too few for a 4-D subspace (and a residual)
+    assert np.isnan(model_consistency(X0, mask, y, 1.0)).all()
+    assert np.isnan(model_consistency(X0, mask, np.zeros_like(y), 1.0)).all()
+    # one observed frame: no track keeps a residual degree of freedom
+    X, y = _subspaces(sizes=(40, 40), n_frames=8)
+    X[:, 2:] = np.nan
+    X0, mask = observed_entries(X)
+    assert np.isnan(model_consistency(X0, mask, y, 1.0)).all()
+
+
+@pytest.mark.parametrize(
+    ("inconsistency", "residual", "expected"),
+    [
+        # candidate 1 fits best but is inconsistent; 0 and 2 within 0.02
+        ([0.0, 0.5, 0.01], [3.0, 1.0, 2.0], 2),
+        ([0.0, 0.5, 0.1], [3.0, 1.0, 2.0], 0),
+        # NaN (fewer than two motions modelled): never kept, unless all are
+        ([0.0, np.nan, 0.01], [3.0, np.nan, 2.0], 2),
+        ([np.nan, np.nan, np.nan], [np.nan, np.nan, np.nan], 0),
+    ],
+)
+def test_select_by_consistency(inconsistency, residual, expected):
+    chosen = select_segmentation(
+        [1.0, 1.0, 1.0],
+        [0.0, 0.0, 0.0],
+        selection="consistency",
+        tolerance=0.02,
+        inconsistency=inconsistency,
+        residual=residual,
+    )
+    assert chosen == expected
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({}, "needs inconsistency and residual"),
+        ({"inconsistency": [0.1], "residual": [1.0, 2.0]}, "one value per candidate"),
+    ],
+)
+def test_select_by_consistency_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        select_segmentation(
+            [1.0, 2.0], [0.1, 0.1], selection="consistency", tolerance=0.02, **kwargs
+        )
