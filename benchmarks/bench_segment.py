@@ -17,7 +17,8 @@ Settings (``--setting``):
 For every sequence: the misclassification of ``segment_motions(X, n)``, of its
 refined candidates (and of the best of them in hindsight: the criterion that
 picks one is not always right), of the candidate kept by each selection rule
-(``init`` "auto" or "all" x ``selection`` "coding_length" or "separability",
+(``init`` "auto" or "all" x ``selection`` "coding_length", "separability",
+"fitted_separability" or "consistency",
 all from one ``init="all"`` run: its gpca and fragments candidates are those of
 ``init="auto"``, drawn first from the same seed), of the default
 ``make_pipeline(PowerFactorization(), GPCAClustering(n))``, of
@@ -65,6 +66,7 @@ from sklearn_gpca._observed_subspaces import observed_entries
 from sklearn_gpca._segment import (
     AMBIGUITY_DIM_DROP,
     AMBIGUITY_TOLERANCE,
+    CONSISTENCY_TOLERANCE,
     projectable,
 )
 from sklearn_gpca._segment_selection import select_segmentation
@@ -119,12 +121,16 @@ RULES = {
     "all+coding": ("all", "coding_length"),
     "all+separability": ("all", "separability"),
     "all+fitted_separability": ("all", "fitted_separability"),
+    "auto+consistency": ("auto", "consistency"),
+    "all+consistency": ("all", "consistency"),
 }
 #: Criteria whose agreement with the error is reported: name -> info key.
 CRITERIA = {
     "coding length": "coding_lengths",
     "ambiguous fraction": "ambiguity",
     "ambiguous fraction at fitted dimensions": "fitted_ambiguity",
+    "share of tracks nearer another motion's model": "inconsistency",
+    "capped residual to the own model": "residuals",
 }
 
 
@@ -200,7 +206,7 @@ def run_one(setting, name, X, y, n, threads, paper):
             keep = [
                 i
                 for i, c in enumerate(info.candidates)
-                if init == "all" or c != "votes"
+                if init == "all" or not c.startswith("votes")
             ]
             ambiguity = info.ambiguity
             if selection == "fitted_separability":
@@ -211,7 +217,13 @@ def run_one(setting, name, X, y, n, threads, paper):
                 info.coding_lengths[keep],
                 ambiguity[keep],
                 selection=selection,
-                tolerance=AMBIGUITY_TOLERANCE,
+                tolerance=(
+                    CONSISTENCY_TOLERANCE
+                    if selection == "consistency"
+                    else AMBIGUITY_TOLERANCE
+                ),
+                inconsistency=info.inconsistency[keep],
+                residual=info.residuals[keep],
             )
             row[key] = errors[keep[chosen]]
         row["segment"] = misclassification_rate(y, screened)
@@ -339,7 +351,7 @@ def _methods(rows):
     names = sorted({c for r in rows for c in r["candidates"]})
     methods = [
         (
-            "segment_motions (default: init='all', separability, screen_outliers)",
+            "segment_motions (default: init='all', consistency, screen_outliers)",
             "segment",
             None,
         )

@@ -530,8 +530,10 @@ def segment_motions(
         track keeps a label in ``0 .. n_motions - 1``. A tracker's few
         outlier tracks otherwise pull the candidates apart: on
         ``make_tracks`` draws with their 3-5 % of outlier tracks the error on
-        the inliers falls from 16.0 % to 12.3 %, as if they were removed
-        (``benchmarks/results/screening.md``). False: every track takes part.
+        the inliers falls from 10.9 % to 7.6 % (7.95 % with them removed;
+        ``benchmarks/results/screening.md``), and on every fifth Hopkins155
+        sequence (no outlier tracks) from 2.5 % to 1.15 %. False: every track
+        takes part.
     perspective_background : bool, default=True
         Refine every refined candidate, and every candidate's start, once
         more with its largest motion
@@ -544,10 +546,11 @@ def segment_motions(
         hand-held frames the affine refinement cuts it in two by depth,
         where the perspective background fits every one of its tracks to
         the noise. Measured (``benchmarks/results/perspective_background*.md``,
-        ``make_tracks`` draws with the outlier tracks removed): seeds 0-3
-        8.65 % against 11.73 % without, held-out seeds 20-23 10.54 % against
-        12.53 % (hand-held scenes 4.5 against 10.4 %, 15.5 against 28.3 %);
-        about 1.5-2 times the time. False: the subspace candidates only.
+        ``make_tracks`` draws with the outlier tracks removed, each with its
+        default ``selection``): seeds 0-3 7.95 % against 11.73 % without,
+        held-out seeds 20-23 6.24 % against 13.15 % (hand-held scenes, seeds
+        0-3: 4.1 against 11.6 % at 40 frames, 10.4 against 23.0 % at 100);
+        about 2.5 times the time. False: the subspace candidates only.
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
     return_info : bool, default=False

@@ -4,6 +4,7 @@
 
 import numpy as np
 import pytest
+from _subspace_draws import subspace_tracks
 
 from sklearn_gpca._model_consistency import model_consistency
 from sklearn_gpca._observed_subspaces import observed_entries
@@ -11,24 +12,10 @@ from sklearn_gpca._segment_selection import select_segmentation
 from sklearn_gpca.datasets import make_tracks
 
 
-def _subspaces(sizes=(120, 60, 60), n_frames=12, missing=0.0, seed=0):
-    """Tracks on random 4-D subspaces of R^{2F}, unit noise."""
-    rng = np.random.RandomState(seed)
-    blocks, labels = [], []
-    for k, size in enumerate(sizes):
-        basis = np.linalg.qr(rng.standard_normal((2 * n_frames, 4)))[0]
-        blocks.append(100.0 * rng.standard_normal((size, 4)) @ basis.T)
-        labels.append(np.full(size, k))
-    X = np.vstack(blocks) + rng.standard_normal((sum(sizes), 2 * n_frames))
-    unseen = rng.rand(X.shape[0], n_frames) < missing
-    X[np.repeat(unseen, 2, axis=1)] = np.nan
-    return X, np.concatenate(labels)
-
-
 @pytest.mark.parametrize("missing", [0.0, 0.3])
 @pytest.mark.parametrize("seed", range(2))
 def test_truth_is_consistent_and_fits_best(missing, seed):
-    X, y = _subspaces(missing=missing, seed=seed)
+    X, y = subspace_tracks(missing=missing, seed=seed)
     X0, mask = observed_entries(X)
     rng = np.random.default_rng(seed)
     # motions 1 and 2 merged, motion 0 cut in two
@@ -75,13 +62,13 @@ def test_perspective_background_is_consistent_where_subspaces_are_not():
 
 
 def test_too_few_modelled_groups_give_nan():
-    X, y = _subspaces(sizes=(40, 5), n_frames=8)
+    X, y = subspace_tracks(sizes=(40, 5), n_frames=8)
     X0, mask = observed_entries(X)
     # the 5 tracks of group 1 are too few for a 4-D subspace (and a residual)
     assert np.isnan(model_consistency(X0, mask, y, 1.0)).all()
     assert np.isnan(model_consistency(X0, mask, np.zeros_like(y), 1.0)).all()
     # one observed frame: no track keeps a residual degree of freedom
-    X, y = _subspaces(sizes=(40, 40), n_frames=8)
+    X, y = subspace_tracks(sizes=(40, 40), n_frames=8)
     X[:, 2:] = np.nan
     X0, mask = observed_entries(X)
     assert np.isnan(model_consistency(X0, mask, y, 1.0)).all()

@@ -4,6 +4,7 @@
 
 import numpy as np
 import pytest
+from _subspace_draws import subspace_tracks
 
 from sklearn_gpca import MotionSegmentation
 from sklearn_gpca._observed_subspaces import observed_entries
@@ -28,25 +29,10 @@ def _merged_split(y):
     return wrong
 
 
-def _subspaces(sizes=(120, 60, 60), n_frames=12, missing=0.0, seed=0):
-    """Tracks on random 4-D subspaces of R^{2F} (generic: far apart), unit
-    noise, a fraction ``missing`` of each track's frames unseen."""
-    rng = np.random.RandomState(seed)
-    blocks, labels = [], []
-    for k, size in enumerate(sizes):
-        basis = np.linalg.qr(rng.standard_normal((2 * n_frames, 4)))[0]
-        blocks.append(100.0 * rng.standard_normal((size, 4)) @ basis.T)
-        labels.append(np.full(size, k))
-    X = np.vstack(blocks) + rng.standard_normal((sum(sizes), 2 * n_frames))
-    unseen = rng.rand(X.shape[0], n_frames) < missing
-    X[np.repeat(unseen, 2, axis=1)] = np.nan
-    return X, np.concatenate(labels)
-
-
 @pytest.mark.parametrize("missing", [0.0, 0.3])
 @pytest.mark.parametrize("seed", range(3))
 def test_ambiguous_fraction_prefers_truth_to_merge_and_split(missing, seed):
-    X, y = _subspaces(missing=missing, seed=seed)
+    X, y = subspace_tracks(missing=missing, seed=seed)
     X0, mask = observed_entries(X)
     truth = ambiguous_fraction(X0, mask, y, 1.0)
     wrong = ambiguous_fraction(X0, mask, _merged_split(y), 1.0)
@@ -62,7 +48,7 @@ def test_ambiguous_fraction_prefers_truth_to_merge_and_split(missing, seed):
 
 
 def test_ambiguous_fraction_counts_only_testable_tracks():
-    X, y = _subspaces()
+    X, y = subspace_tracks()
     wrong = _merged_split(y)
     X0, mask = observed_entries(X)
     n_ambiguous = ambiguous_fraction(X0, mask, wrong, 1.0) * y.size
@@ -167,7 +153,7 @@ def test_estimator_selection_and_ambiguity():
         segment_motions(X, 2, selection="bits")
 
 
-def test_default_candidates_include_votes_and_rule_uses_smaller_subspaces():
+def test_default_candidates_include_votes_and_rule_uses_smallersubspace_tracks():
     X, _ = make_motions(2, n_points=[80, 60], n_frames=10, missing=0.2, random_state=0)
     labels, info = segment_motions(
         X, 2, random_state=0, return_info=True, screen_outliers=False
