@@ -28,6 +28,7 @@ import time
 import warnings
 
 import numpy as np
+from _tables import write_markdown
 from bench_segment import fitted_ambiguities
 
 from sklearn_gpca import segment_motions
@@ -122,8 +123,7 @@ def main(argv=None):
             "is the nearest true 4-D subspace on observed entries.",
             "",
         ]
-        with open(args.out, "w") as page:
-            page.write("\n".join([*header, *lines, "", summary, ""]))
+        write_markdown(args.out, "\n".join([*header, *lines, "", summary, ""]))
 
 
 if __name__ == "__main__":
