@@ -20,10 +20,8 @@ import numpy as np
 
 from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_residuals
 from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
+from sklearn_gpca._refine_observed import MIN_PROJECTIVE_TRACKS
 
-#: Fewest tracks of the group modelled by a perspective camera; a smaller
-#: largest group gets a subspace.
-MIN_PROJECTIVE_TRACKS = 12
 #: Cap on a track's residual per degree of freedom, in noise variances: a
 #: track 5 noise deviations from its model counts as a misfit, no more, so
 #: that a few tracks that fit no model cannot decide the comparison.
@@ -56,7 +54,8 @@ def model_consistency(
         Dimension of the subspace of every group but the perspective one.
     perspective_background : bool, default=True
         Model the largest group (when it holds at least
-        ``MIN_PROJECTIVE_TRACKS`` tracks) by one ``3 x 4`` camera per frame
+        ``MIN_PROJECTIVE_TRACKS`` tracks, as the refinement needs; a smaller
+        one gets a subspace) by one ``3 x 4`` camera per frame
         (:func:`sklearn_gpca._projective_motion.fit_projective_motion`); False:
         every group by a subspace.
     cameras : ndarray of shape (n_frames, 3, 4), default=None

@@ -215,9 +215,7 @@ def select_segmentation(
         raise ValueError("selection='consistency' needs inconsistency and residual.")
     inconsistency = np.asarray(inconsistency, dtype=float)
     residual = np.asarray(residual, dtype=float)
-    if inconsistency.shape != coding_lengths.shape or residual.shape != (
-        coding_lengths.shape
-    ):
+    if not inconsistency.shape == residual.shape == coding_lengths.shape:
         raise ValueError(
             "inconsistency and residual must have one value per candidate "
             f"({coding_lengths.size}), got shapes {inconsistency.shape} and "

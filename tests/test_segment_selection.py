@@ -146,6 +146,8 @@ def test_estimator_selection_and_ambiguity():
     # the estimator exposes the objective the function reports
     _, info = segment_motions(X, 2, random_state=0, return_info=True)
     np.testing.assert_array_equal(model.objectives_, info.objectives)
+    np.testing.assert_array_equal(model.inconsistency_, info.inconsistency)
+    assert model.inconsistency_.shape == (len(model.candidates_),)
     assert np.isfinite(model.objectives_).all()
     with pytest.raises(ValueError, match="selection"):
         MotionSegmentation(2, selection="bits").fit(X)
