@@ -8,7 +8,11 @@ background of tracker output; a linear subspace for the others) and measures
   (per residual degree of freedom): a segmentation that merges two motions
   or cuts one in two leaves tracks nearer another group's model than their
   own, the true one leaves few;
-- the residual of every track to its own model, capped, summed: the fit.
+- the fit: ``sum log(1 + rho / noise)`` over the tracks, ``rho`` a track's
+  residual per degree of freedom to its own model (the Cauchy loss: about
+  ``rho / noise`` near the noise level, logarithmic beyond, so that a few
+  tracks that fit no model cannot decide the comparison, and still a
+  measure, not a count, where the noise is underestimated).
 
 :func:`sklearn_gpca.segment_motions` (``selection="consistency"``) keeps the
 best-fitting candidate among the nearly most consistent ones.
@@ -22,12 +26,6 @@ from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_res
 from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
 from sklearn_gpca._refine_observed import MIN_PROJECTIVE_TRACKS
 
-#: Cap on a track's residual per degree of freedom, in noise variances: a
-#: track 5 noise deviations from its model counts as a misfit, no more, so
-#: that a few tracks that fit no model cannot decide the comparison.
-RESIDUAL_CAP = 25.0
-
-
 def model_consistency(
     X0,
     mask,
@@ -38,7 +36,7 @@ def model_consistency(
     perspective_background=True,
     cameras=None,
 ):
-    """Share of tracks nearer another group's model, and the capped fit.
+    """Share of tracks nearer another group's model, and the robust fit.
 
     Parameters
     ----------
@@ -69,14 +67,15 @@ def model_consistency(
         Share of the testable tracks (a residual degree of freedom in their
         own model) whose residual per degree of freedom is smaller in another
         group's model; NaN when fewer than two groups can be modelled (more
-        than ``subspace_dim + 1`` tracks each).
+        than ``subspace_dim`` tracks each; the tracks of a smaller group are
+        not tested).
     residual : float
-        Sum over the testable tracks of their residual per degree of freedom
-        in their own model, capped at ``RESIDUAL_CAP * noise``, over ``noise``.
+        Sum over the testable tracks of ``log(1 + rho / noise)``, ``rho``
+        their residual per degree of freedom in their own model.
     """
     groups, index = np.unique(labels, return_inverse=True)
     sizes = np.bincount(index, minlength=groups.size)
-    modelled = np.flatnonzero(sizes > subspace_dim + 1)
+    modelled = np.flatnonzero(sizes > subspace_dim)
     if modelled.size < 2:
         return np.nan, np.nan
     largest = int(np.argmax(sizes))
@@ -105,5 +104,5 @@ def model_consistency(
         return np.nan, np.nan
     nearest = np.argmin(per_dof[testable], axis=1)
     inconsistency = float(np.mean(nearest != index[testable]))
-    residual = float(np.sum(np.minimum(own[testable], RESIDUAL_CAP * noise)) / noise)
+    residual = float(np.sum(np.log1p(own[testable] / noise)))
     return inconsistency, residual
