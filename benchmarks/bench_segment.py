@@ -130,7 +130,7 @@ CRITERIA = {
     "ambiguous fraction": "ambiguity",
     "ambiguous fraction at fitted dimensions": "fitted_ambiguity",
     "share of tracks nearer another motion's model": "inconsistency",
-    "capped residual to the own model": "residuals",
+    "robust fit to the own model": "residuals",
 }
 
 

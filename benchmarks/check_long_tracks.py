@@ -12,7 +12,7 @@ misclassification (%) of ``segment_motions(X, n, random_state=0)`` (the
 default, outliers screened) and its wall time, of each refined candidate of
 the same call without screening (every track in every candidate), with the
 value of the selection criteria (``selection="consistency"``, the default:
-the share of tracks nearer another motion's model and the capped residual;
+the share of tracks nearer another motion's model and the robust fit;
 ``selection="separability"``: the ambiguous fraction), and of the oracle
 (nearest true 4-D subspace on observed entries). ``bench_segment.py
 --setting tracks`` measures 40-frame hand-held draws; this script shows what
@@ -46,7 +46,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     lines = [
         "| draw | tracks | missing % | default % | fitted_separability % | "
-        "candidate: error % (inconsistency, capped residual kilo-units, "
+        "candidate: error % (inconsistency, robust fit in thousands, "
         "ambiguous fraction) | oracle % | s |",
         "|---|---|---|---|---|---|---|---|",
     ]
@@ -117,7 +117,8 @@ def main(argv=None):
             "time (*s*); the candidates are those of the same call without "
             "screening (every track in every candidate), each after its "
             "refinement, with its share of tracks nearer another motion's "
-            "model, its capped residual (the default's criteria) and its "
+            "model, its robust fit (sum of log(1 + residual / noise); the "
+            "default's criteria) and its "
             'ambiguous fraction at 3-D subspaces (`selection="separability"`\'s); '
             "*fitted_separability*: that rule on these candidates; the oracle "
             "is the nearest true 4-D subspace on observed entries.",
