@@ -26,6 +26,7 @@ from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_res
 from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
 from sklearn_gpca._refine_observed import MIN_PROJECTIVE_TRACKS
 
+
 def model_consistency(
     X0,
     mask,
