@@ -46,7 +46,7 @@ def main(argv=None):
     args = parser.parse_args(argv)
     lines = [
         "| draw | tracks | missing % | default % | fitted_separability % | "
-        "candidate: error % (inconsistency, robust fit in thousands, "
+        "candidate: error % (inconsistency, robust fit, "
         "ambiguous fraction) | oracle % | s |",
         "|---|---|---|---|---|---|---|---|",
     ]
@@ -68,7 +68,7 @@ def main(argv=None):
             info.fitted_ambiguity = fitted_ambiguities(X, info)
         candidates = [
             f"{name}: {100 * misclassification_rate(y, r):.1f} "
-            f"({a:.2f}, {b / 1e3:.1f}, {c:.2f})"
+            f"({a:.2f}, {b:.0f}, {c:.2f})"
             for name, r, a, b, c in zip(
                 info.candidates,
                 info.refined,

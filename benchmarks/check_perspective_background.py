@@ -18,6 +18,8 @@ Usage::
     python benchmarks/check_perspective_background.py --seeds 0 1 2 3
     python benchmarks/check_perspective_background.py --seeds 20 21 22 23 \\
         --out benchmarks/results/perspective_background_heldout.md
+    python benchmarks/check_perspective_background.py --seeds 40 41 42 43 \\
+        --out benchmarks/results/perspective_background_fresh.md
     python benchmarks/check_perspective_background.py --seeds --hopkins \\
         ../shared/data/hopkins155 --step 1 \\
         --out benchmarks/results/perspective_background_hopkins.md
