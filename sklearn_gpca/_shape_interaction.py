@@ -95,11 +95,14 @@ class ShapeInteractionClustering(ClusterMixin, BaseEstimator):
 
     Examples
     --------
-    >>> import numpy as np
     >>> from sklearn_gpca import ShapeInteractionClustering
-    >>> X = np.kron(np.eye(2), np.ones((5, 3)))
-    >>> ShapeInteractionClustering(2, random_state=0).fit_predict(X)
-    array([1, 1, 1, 1, 1, 0, 0, 0, 0, 0], dtype=int32)
+    >>> from sklearn_gpca.datasets import make_motions
+    >>> from sklearn_gpca.metrics import misclassification_rate
+    >>> X, y = make_motions(2, n_points=[40, 40], n_frames=8, noise=0.0,
+    ...                     random_state=0)
+    >>> labels = ShapeInteractionClustering(2, random_state=0).fit_predict(X)
+    >>> misclassification_rate(y, labels) < 0.1
+    True
     """
 
     _parameter_constraints: dict = {
