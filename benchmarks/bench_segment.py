@@ -67,6 +67,7 @@ from sklearn_gpca._segment import (
     AMBIGUITY_DIM_DROP,
     AMBIGUITY_TOLERANCE,
     CONSISTENCY_TOLERANCE,
+    MISFIT_COST,
     projectable,
 )
 from sklearn_gpca._segment_selection import select_segmentation
@@ -224,6 +225,8 @@ def run_one(setting, name, X, y, n, threads, paper):
                 ),
                 inconsistency=info.inconsistency[keep],
                 residual=info.residuals[keep],
+                misfit_cost=MISFIT_COST if selection == "consistency" else None,
+                n_tracks=info.refined[0].size,
             )
             row[key] = errors[keep[chosen]]
         row["segment"] = misclassification_rate(y, screened)

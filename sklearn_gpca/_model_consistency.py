@@ -15,7 +15,8 @@ background of tracker output; a linear subspace for the others) and measures
   measure, not a count, where the noise is underestimated).
 
 :func:`sklearn_gpca.segment_motions` (``selection="consistency"``) keeps the
-best-fitting candidate among the nearly most consistent ones.
+candidate of least fit plus a fixed cost per track nearer another group's
+model (``MISFIT_COST``).
 """
 
 # SPDX-License-Identifier: BSD-3-Clause

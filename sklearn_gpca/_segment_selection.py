@@ -165,6 +165,8 @@ def select_segmentation(
     tolerance,
     inconsistency=None,
     residual=None,
+    misfit_cost=None,
+    n_tracks=None,
 ):
     """Index of the segmentation kept among refined candidates.
 
@@ -181,15 +183,23 @@ def select_segmentation(
         ``"coding_length"``: the shortest coding length. ``"separability"``:
         the shortest coding length among the candidates whose ambiguous
         fraction is within ``tolerance`` of the smallest. ``"consistency"``:
-        the smallest ``residual`` among the candidates whose
-        ``inconsistency`` is within ``tolerance`` of the smallest (NaN: not
-        eligible, as for ``"separability"``).
+        the smallest penalised fit ``residual + misfit_cost * inconsistency
+        * n_tracks`` (each track nearer another group's model costs
+        ``misfit_cost``) among the candidates whose ``inconsistency`` is
+        within ``tolerance`` of the smallest (NaN: not eligible, as for
+        ``"separability"``).
     tolerance : float
         Slack on the ambiguous fraction or the inconsistency (a share of the
-        tracks).
+        tracks); ``1`` makes every judged candidate eligible.
     inconsistency, residual : array-like of shape (n_candidates,), default=None
         :func:`sklearn_gpca._model_consistency.model_consistency` of each
         candidate; needed by ``"consistency"`` only.
+    misfit_cost : float, default=None
+        Cost of one inconsistent track, in the units of ``residual``; None
+        (or 0): ``residual`` alone.
+    n_tracks : int, default=None
+        Number of tracks the candidates were judged on; needed with
+        ``misfit_cost``.
 
     Returns
     -------
@@ -221,7 +231,10 @@ def select_segmentation(
             f"({coding_lengths.size}), got shapes {inconsistency.shape} and "
             f"{residual.shape}."
         )
+    fit = np.where(np.isnan(residual), np.inf, residual)
+    if misfit_cost:
+        if n_tracks is None:
+            raise ValueError("misfit_cost needs n_tracks.")
+        fit = fit + misfit_cost * n_tracks * np.nan_to_num(inconsistency)
     # a candidate without a judgement has no residual either: never the least
-    return _least_within(
-        inconsistency, np.where(np.isnan(residual), np.inf, residual), tolerance
-    )
+    return _least_within(inconsistency, fit, tolerance)

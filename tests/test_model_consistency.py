@@ -115,10 +115,38 @@ def test_select_by_consistency(inconsistency, residual, expected):
 
 
 @pytest.mark.parametrize(
+    ("misfit_cost", "expected"),
+    [
+        # 100 tracks: candidate 1 has 10 more inconsistent tracks and fits
+        # 50 better; at cost 4 they cost 40 (it wins), at cost 8, 80 (it loses)
+        (4.0, 1),
+        (8.0, 0),
+        (None, 1),
+    ],
+)
+def test_select_by_penalised_fit(misfit_cost, expected):
+    chosen = select_segmentation(
+        [1.0, 1.0],
+        [0.0, 0.0],
+        selection="consistency",
+        tolerance=1.0,
+        inconsistency=[0.0, 0.1],
+        residual=[300.0, 250.0],
+        misfit_cost=misfit_cost,
+        n_tracks=100,
+    )
+    assert chosen == expected
+
+
+@pytest.mark.parametrize(
     ("kwargs", "match"),
     [
         ({}, "needs inconsistency and residual"),
         ({"inconsistency": [0.1], "residual": [1.0, 2.0]}, "one value per candidate"),
+        (
+            {"inconsistency": [0.1, 0.0], "residual": [1.0, 2.0], "misfit_cost": 8.0},
+            "misfit_cost needs n_tracks",
+        ),
     ],
 )
 def test_select_by_consistency_bad_input(kwargs, match):

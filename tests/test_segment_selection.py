@@ -11,6 +11,7 @@ from sklearn_gpca._observed_subspaces import observed_entries
 from sklearn_gpca._segment import (
     AMBIGUITY_TOLERANCE,
     CONSISTENCY_TOLERANCE,
+    MISFIT_COST,
     segment_motions,
 )
 from sklearn_gpca._segment_selection import (
@@ -131,6 +132,8 @@ def test_segment_motions_selection_wiring(selection):
         ),
         inconsistency=info.inconsistency,
         residual=info.residuals,
+        misfit_cost=MISFIT_COST if selection == "consistency" else None,
+        n_tracks=X.shape[0],
     )
     assert info.chosen == expected
     assert np.array_equal(labels, info.refined[expected])
