@@ -546,7 +546,8 @@ def segment_motions(
         outlier tracks otherwise pull the candidates apart: on
         ``make_tracks`` draws with their 3-5 % of outlier tracks the error on
         the inliers falls from 10.9 % to 7.6 % (7.95 % with them removed;
-        ``benchmarks/results/screening.md``), and on every fifth Hopkins155
+        ``benchmarks/results/screening.md``, measured with the first
+        consistency rule), and on every fifth Hopkins155
         sequence (no outlier tracks) from 2.5 % to 1.15 %. False: every track
         takes part.
     perspective_background : bool, default=True
@@ -562,9 +563,9 @@ def segment_motions(
         where the perspective background fits every one of its tracks to
         the noise. Measured (``benchmarks/results/perspective_background*.md``,
         ``make_tracks`` draws with the outlier tracks removed, each with its
-        default ``selection``): seeds 0-3 7.95 % against 11.73 % without,
-        held-out seeds 20-23 6.24 % against 13.15 % (hand-held scenes, seeds
-        0-3: 4.1 against 11.6 % at 40 frames, 10.4 against 23.0 % at 100);
+        default ``selection``): seeds 0-3 7.21 % against 12.20 % without,
+        seeds 20-23 6.11 % against 13.70 % (hand-held scenes, seeds
+        0-3: 4.1 against 11.6 % at 40 frames, 7.2 against 23.0 % at 100);
         about 2.5 times the time. False: the subspace candidates only.
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
