@@ -68,10 +68,12 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         probability per track (e.g. ``1e-3``; see
         :func:`~sklearn_gpca.segment_motions`); None labels every track.
 
-    screen_outliers : bool, default=True
+    screen_outliers : bool or "kept", default=True
         Without ``outlier_threshold``: set aside the tracks the outlier test
         flags at ``1e-3`` while the motions are found, then give each the
-        nearest motion (see :func:`~sklearn_gpca.segment_motions`).
+        nearest motion; the candidates drawn from every track are judged
+        too, on the kept tracks, unless ``"kept"`` (see
+        :func:`~sklearn_gpca.segment_motions`).
 
     perspective_background : bool, default=True
         Also refine every candidate with its largest motion (the background of
@@ -151,7 +153,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         "per_cluster": ["boolean"],
         "max_iter": [Count(1, None, closed="left")],
         "outlier_threshold": [Interval(Real, 0, 1, closed="neither"), None],
-        "screen_outliers": ["boolean"],
+        "screen_outliers": ["boolean", StrOptions({"kept"})],
         "perspective_background": ["boolean"],
         "random_state": ["random_state"],
     }

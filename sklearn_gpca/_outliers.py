@@ -235,6 +235,7 @@ def screened_segmentation(
     init,
     return_info,
     assign=False,
+    pooled=False,
     **kwargs,
 ):
     """Set aside the tracks that fail the local test, segment the others.
@@ -253,8 +254,9 @@ def screened_segmentation(
     Parameters
     ----------
     segment : callable
-        ``segment_motions``, called on the tracks that pass the test with
-        ``outlier_threshold=None`` and the other keywords.
+        ``sklearn_gpca._segment._segment_tracks``, called on the tracks that
+        pass the test with the other keywords (``return_info`` and
+        ``kwargs``).
     X : ndarray of shape (n_samples, 2 * n_frames)
         Tracks, NaN where missing (checked by the caller).
     n_motions : int
@@ -270,6 +272,12 @@ def screened_segmentation(
         Give each set-aside track the motion whose subspace (fitted to the
         motion's kept tracks on their observed entries) is nearest on the
         track's observed entries, instead of ``-1``.
+    pooled : bool, default=False
+        When tracks are set aside, also call ``segment`` on every track and
+        pass its refined candidates, restricted to the kept tracks, to the
+        call on the kept tracks as ``extra_candidates``: judged there beside
+        the kept tracks' own, on the kept tracks (see ``segment_motions``'s
+        ``screen_outliers``).
     **kwargs
         Passed to ``segment``.
 
@@ -304,13 +312,22 @@ def screened_segmentation(
         # too few tracks left to segment: the test is not applied
         outliers[:] = False
     kept = ~outliers
+    extra = {}
+    if pooled and outliers.any() and n_motions > 1:
+        _, everything = segment(X, n_motions, init=init, return_info=True, **kwargs)
+        extra["extra_candidates"] = [
+            (f"{name}, from every track", labels[kept])
+            for name, labels in zip(
+                everything.candidates, everything.refined, strict=True
+            )
+        ]
     result = segment(
         X[kept],
         n_motions,
         init=init if isinstance(init, str) else init[kept],
-        outlier_threshold=None,
         return_info=return_info,
         **kwargs,
+        **extra,
     )
     labels = np.full(n_samples, -1, dtype=np.intp)
     labels[kept] = result[0] if return_info else result
