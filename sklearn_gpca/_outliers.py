@@ -273,11 +273,11 @@ def screened_segmentation(
         motion's kept tracks on their observed entries) is nearest on the
         track's observed entries, instead of ``-1``.
     pooled : bool, default=False
-        When tracks are set aside, also call ``segment`` on every track and
-        pass its refined candidates, restricted to the kept tracks, to the
-        call on the kept tracks as ``extra_candidates``: judged there beside
-        the kept tracks' own, on the kept tracks (see ``segment_motions``'s
-        ``screen_outliers``).
+        When tracks are set aside, also call ``segment`` on every track
+        (``candidates_only=True``) and pass its refined candidates,
+        restricted to the kept tracks, to the call on the kept tracks as
+        ``extra_candidates``: judged there beside the kept tracks' own, on
+        the kept tracks (see ``segment_motions``'s ``screen_outliers``).
     **kwargs
         Passed to ``segment``.
 
@@ -314,7 +314,9 @@ def screened_segmentation(
     kept = ~outliers
     extra = {}
     if pooled and outliers.any() and n_motions > 1:
-        _, everything = segment(X, n_motions, init=init, return_info=True, **kwargs)
+        everything = segment(
+            X, n_motions, init=init, return_info=False, candidates_only=True, **kwargs
+        )
         extra["extra_candidates"] = [
             (f"{name}, from every track", labels[kept])
             for name, labels in zip(

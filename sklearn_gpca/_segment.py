@@ -553,11 +553,13 @@ def segment_motions(
         from every track (as with ``False``), restricted to the kept tracks,
         are judged beside the kept tracks' own, on the kept tracks: the test
         also sets aside inliers (a perspective background's nearest tracks),
-        and the candidates drawn without them are sometimes worse. On
-        cached candidates of the ``make_tracks`` draws of
-        ``benchmarks/bench_segment.py`` (outlier tracks removed), the kept
-        error fell from 7.28 / 6.14 / 9.19 % to 5.64 / 5.50 / 7.76 % (seeds
-        0-3 / 20-23 / 40-43; all three seen before the choice), at about
+        and the candidates drawn without them are sometimes worse. Measured
+        (``benchmarks/check_perspective_background.py``): ``make_tracks``
+        seeds 40-43 (outlier tracks removed) 9.10 -> 7.67 %
+        (``perspective_background_fresh.md``), all 155 Hopkins155
+        sequences 1.28 -> 1.00 %, but the occluded two-motion ones 1.68 ->
+        2.10 % (``perspective_background_hopkins.md``); the choice was made
+        on cached candidates of seeds 0-3, 20-23 and 40-43. Up to about
         twice the time where tracks are set aside. ``"kept"``: the kept
         tracks' own candidates only (the rule before). False: every track
         takes part.
@@ -685,12 +687,15 @@ def _segment_tracks(
     random_state,
     return_info,
     extra_candidates=(),
+    candidates_only=False,
 ):
     """:func:`segment_motions` of checked tracks (in a safe range), unscreened.
 
     ``extra_candidates`` are ``(name, labels)`` pairs of refined candidates
     judged beside this call's (e.g. those drawn from more tracks, restricted
-    to these), as they are.
+    to these), as they are. ``candidates_only`` returns
+    ``Bunch(candidates=names, refined=labels)`` once the candidates are
+    refined, before any is judged.
     """
     random_state = check_random_state(random_state)
     n_samples = X.shape[0]
@@ -830,6 +835,8 @@ def _segment_tracks(
                 cameras.append(fitted)
                 # the affine candidate's background camera starts from them
                 cameras[k] = fitted if cameras[k] is None else cameras[k]
+    if candidates_only:
+        return Bunch(candidates=names, refined=refined)
     for name, labels in extra_candidates:
         names.append(name)
         initial.append(labels)
