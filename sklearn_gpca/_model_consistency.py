@@ -24,7 +24,11 @@ model (``MISFIT_COST``).
 import numpy as np
 
 from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_residuals
-from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
+from sklearn_gpca._projective_motion import (
+    affine_cameras,
+    fit_projective_motion,
+    projective_residuals,
+)
 from sklearn_gpca._refine_observed import MIN_PROJECTIVE_TRACKS
 
 
@@ -89,10 +93,7 @@ def model_consistency(
             and g == largest
             and sizes[g] >= MIN_PROJECTIVE_TRACKS
         ):
-            cameras, supported = fit_projective_motion(
-                X0[members], mask[members], cameras=cameras
-            )
-            residuals, dofs = projective_residuals(X0, mask, cameras, supported)
+            residuals, dofs = _perspective_residuals(X0, mask, members, cameras, noise)
         else:
             basis, support = fit_observed_subspace(
                 X0[members], mask[members], subspace_dim
@@ -108,3 +109,25 @@ def model_consistency(
     inconsistency = float(np.mean(nearest != index[testable]))
     residual = float(np.sum(np.log1p(own[testable] / noise)))
     return inconsistency, residual
+
+
+def _perspective_residuals(X0, mask, members, cameras, noise):
+    """Residuals of every track to the members' perspective motion.
+
+    The motion is fitted twice, from ``cameras`` (or frame by frame) and
+    from the members' affine cameras (an affine camera is a perspective one:
+    started there, the fit can end no worse than the affine model, where the
+    sequential fit can settle in a poor reconstruction); the fit that
+    explains the members better (``sum log(1 + rho / noise)``) is kept.
+    """
+    best = None
+    for start in (cameras, affine_cameras(X0[members], mask[members])):
+        fitted, supported = fit_projective_motion(
+            X0[members], mask[members], cameras=start
+        )
+        residuals, dofs = projective_residuals(X0, mask, fitted, supported)
+        rho = residuals[members] / np.maximum(dofs[members], 1)
+        fit = float(np.sum(np.log1p(rho[dofs[members] > 0] / noise)))
+        if best is None or fit < best[0]:
+            best = (fit, residuals, dofs)
+    return best[1], best[2]

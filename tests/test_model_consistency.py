@@ -154,3 +154,35 @@ def test_select_by_consistency_bad_input(kwargs, match):
         select_segmentation(
             [1.0, 2.0], [0.1, 0.1], selection="consistency", tolerance=0.02, **kwargs
         )
+
+
+def test_perspective_fit_also_starts_from_the_affine_cameras(monkeypatch):
+    # a sequential perspective fit that settles badly (here: cameras that see
+    # nothing of the tracks) must not count against the segmentation: the fit
+    # started from the group's affine cameras explains it
+    import sklearn_gpca._model_consistency as module
+
+    X, y = make_tracks(
+        scene="lab", camera="affine", n_tracks=200, n_frames=20, random_state=0
+    )
+    X, y = X[y >= 0], y[y >= 0]
+    X0, mask = observed_entries(X)
+    X0 = X0 / np.sqrt(np.mean(X0[mask] ** 2))
+    noise = 1e-6
+    affine = model_consistency(X0, mask, y, noise, perspective_background=False)
+    working = model_consistency(X0, mask, y, noise)
+    fit = module.fit_projective_motion
+
+    def settles_badly(X0, mask, cameras=None):
+        if cameras is not None:
+            return fit(X0, mask, cameras=cameras)
+        fitted = np.zeros((mask.shape[1] // 2, 3, 4))
+        fitted[:, 2, 3] = 1.0
+        return fitted, np.ones(mask.shape[1] // 2, dtype=bool)
+
+    monkeypatch.setattr(module, "fit_projective_motion", settles_badly)
+    rescued = model_consistency(X0, mask, y, noise)
+    assert rescued[0] == pytest.approx(working[0], abs=0.02)
+    # an affine camera is a perspective one: no worse than the 4-D subspaces
+    # by more than the perspective model's fewer parameters per track allow
+    assert rescued[1] <= max(working[1], affine[1]) + 0.05 * y.size
