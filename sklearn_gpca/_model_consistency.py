@@ -93,41 +93,49 @@ def model_consistency(
             and g == largest
             and sizes[g] >= MIN_PROJECTIVE_TRACKS
         ):
-            residuals, dofs = _perspective_residuals(X0, mask, members, cameras, noise)
+            per_dof[:, g] = _perspective_per_dof(X0, mask, members, cameras, noise)
         else:
             basis, support = fit_observed_subspace(
                 X0[members], mask[members], subspace_dim
             )
             residuals, dofs = subspace_residuals(X0, mask, [basis], [support])
-            residuals, dofs = residuals[:, 0], dofs[:, 0]
-        per_dof[:, g] = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+            per_dof[:, g] = _per_dof(residuals[:, 0], dofs[:, 0])
     own = per_dof[np.arange(labels.size), index]
     testable = np.isfinite(own)
     if not testable.any():
         return np.nan, np.nan
     nearest = np.argmin(per_dof[testable], axis=1)
     inconsistency = float(np.mean(nearest != index[testable]))
-    residual = float(np.sum(np.log1p(own[testable] / noise)))
-    return inconsistency, residual
+    return inconsistency, _robust_fit(own[testable], noise)
 
 
-def _perspective_residuals(X0, mask, members, cameras, noise):
-    """Residuals of every track to the members' perspective motion.
+def _per_dof(residuals, dofs):
+    """Residual per degree of freedom, ``inf`` for a track without one."""
+    return np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+
+
+def _robust_fit(per_dof, noise):
+    """``sum log(1 + rho / noise)`` over the tracks with a residual."""
+    return float(np.sum(np.log1p(per_dof[np.isfinite(per_dof)] / noise)))
+
+
+def _perspective_per_dof(X0, mask, members, cameras, noise):
+    """Every track's residual per degree of freedom to the members' perspective motion.
 
     The motion is fitted twice, from ``cameras`` (or frame by frame) and
     from the members' affine cameras (an affine camera is a perspective one:
     started there, the fit can end no worse than the affine model, where the
     sequential fit can settle in a poor reconstruction); the fit that
-    explains the members better (``sum log(1 + rho / noise)``) is kept.
+    explains the members better (:func:`_robust_fit`) is kept.
     """
-    best = None
-    for start in (cameras, affine_cameras(X0[members], mask[members])):
-        fitted, supported = fit_projective_motion(
-            X0[members], mask[members], cameras=start
+    columns = [
+        _per_dof(
+            *projective_residuals(
+                X0,
+                mask,
+                *fit_projective_motion(X0[members], mask[members], cameras=start),
+            )
         )
-        residuals, dofs = projective_residuals(X0, mask, fitted, supported)
-        rho = residuals[members] / np.maximum(dofs[members], 1)
-        fit = float(np.sum(np.log1p(rho[dofs[members] > 0] / noise)))
-        if best is None or fit < best[0]:
-            best = (fit, residuals, dofs)
-    return best[1], best[2]
+        for start in (cameras, affine_cameras(X0[members], mask[members]))
+    ]
+    return min(columns, key=lambda column: _robust_fit(column[members], noise))
