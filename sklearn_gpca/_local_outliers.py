@@ -25,7 +25,21 @@ track ``p`` that observes ``n_p`` coordinates there:
    statistic of every track of the window is divided by the median, over
    the window's tracks, of its ratio to that law's median (a robust
    calibration: a fit out of sample misfits a little more than in sample,
-   and most tracks are inliers).
+   and most tracks are inliers);
+4. an empirical null (Efron, "Large-scale simultaneous hypothesis testing:
+   the choice of a null hypothesis", JASA 2004): each track's p-value is
+   turned into a normal score ``z``, and where the window's scores spread
+   wider than the standard normal -- real tracks' noise is not one Gaussian
+   level: it differs from track to track and a camera is not exactly
+   affine over a patch -- ``z`` is divided by their width, measured on the
+   lower half of the tracks whose noise is measured (the median minus the
+   lower quartile, over 0.6745), which outliers do not reach. It never
+   narrows the law. At ``1e-3`` it lowers the outlier-free Hopkins155 tracks
+   flagged from 21 % to 8 % (every third sequence; the estimator is the
+   textbook one, not tuned there), and raises the precision on the
+   ``make_tracks`` draws of ``bench_outliers.py`` (seeds 0-2: hand-held 0.87
+   -> 0.90, driving 0.62 -> 0.72, lab 0.97 -> 0.99; recall 0.78 -> 0.77,
+   0.98 -> 0.95, 0.97 -> 0.96).
 
 The p-value of a track is the smallest over its windows times the number of
 windows it is tested in (Bonferroni), so that a track whose residuals are
@@ -44,7 +58,7 @@ at a false-alarm probability of 1e-3; see ``benchmarks/results/outliers.md``.
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-from scipy import stats
+from scipy import special, stats
 
 from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._outliers import frame_windows
@@ -124,6 +138,14 @@ def _window_statistics(x, m, rows, dim, n_neighbors, beta, pool):
     return residual / (dof1 * sigma2), dof1, dof2, tested, measured
 
 
+def _empirical_null(log_p, tested):
+    """Log-p-values under the empirical null of the ``tested`` tracks (step 4)."""
+    z = -special.ndtri_exp(np.minimum(log_p, -1e-300))
+    lower = np.percentile(z[tested], [25, 50])
+    width = max((lower[1] - lower[0]) / 0.6744897501960817, 1.0)
+    return np.maximum(stats.norm.logsf(z / width), _LOG_FLOOR)
+
+
 def local_outlier_pvalues(
     X0,
     mask,
@@ -133,6 +155,7 @@ def local_outlier_pvalues(
     dim=DIM,
     n_neighbors=N_NEIGHBORS,
     beta=BETA,
+    empirical_null=True,
 ):
     """Probability that each track fits its neighbours as well as noise would.
 
@@ -158,6 +181,9 @@ def local_outlier_pvalues(
         Neighbours per track.
     beta : float, default=BETA
         Weight of the offset between two tracks in the neighbour distance.
+    empirical_null : bool, default=True
+        Widen each window's null law to the spread of its tracks' scores
+        (step 4 of the module doc); False tests against the F law alone.
 
     Returns
     -------
@@ -218,6 +244,8 @@ def local_outlier_pvalues(
             )
             stat = stat / max(ratio, np.finfo(np.float64).tiny)
         log_p = np.maximum(stats.f.logsf(stat, dof1, dof2), _LOG_FLOOR)
+        if empirical_null and calibrate.sum() >= MIN_TESTED:
+            log_p = _empirical_null(log_p, calibrate)
         smallest = np.where(tested, np.minimum(smallest, log_p), smallest)
         n_tests += tested
     log_bonferroni = smallest + np.log(np.maximum(n_tests, 1))
