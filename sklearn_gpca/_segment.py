@@ -624,14 +624,16 @@ def segment_motions(
 
     Examples
     --------
-    >>> from sklearn_gpca.datasets import make_motions
+    A tracker-like scene (tracks born and lost, 40 % of the entries
+    missing, a perspective camera):
+
+    >>> from sklearn_gpca.datasets import make_tracks
     >>> from sklearn_gpca.metrics import misclassification_rate
     >>> from sklearn_gpca import segment_motions
-    >>> X, y = make_motions(3, n_points=[150, 40, 40], n_frames=12,
-    ...                     missing=0.3, missing_pattern="occlusion",
-    ...                     random_state=0)
-    >>> labels = segment_motions(X, 3, random_state=0)
-    >>> misclassification_rate(y, labels) < 0.1
+    >>> X, y = make_tracks(scene="lab", n_frames=30, missing=0.4,
+    ...                    random_state=0)
+    >>> labels = segment_motions(X, 2, random_state=0)
+    >>> misclassification_rate(y, labels) < 0.05
     True
     """
     X, unit = in_safe_range(_check_tracks(X, n_motions))
