@@ -632,22 +632,21 @@ def test_subprocess_ctrl_c(tmp_path):
 
     fifo = tmp_path / "tracks.npz"
     os.mkfifo(fifo)
+    # A shell runs background jobs (CI scripts, nohup) with SIGINT ignored, and
+    # the child would inherit it: give it Python's handler back before the
+    # command line starts. (Not with ``preexec_fn``: between fork and exec in a
+    # process with threads, as pytest's is, it can deadlock the child.)
+    launcher = (
+        "import runpy, signal, sys;"
+        "signal.signal(signal.SIGINT, signal.default_int_handler);"
+        "sys.argv = ['sklearn_gpca', *sys.argv[1:]];"
+        "runpy.run_module('sklearn_gpca', run_name='__main__', alter_sys=True)"
+    )
     process = subprocess.Popen(
-        [
-            sys.executable,
-            "-m",
-            "sklearn_gpca",
-            "segment",
-            str(fifo),
-            "--n-motions",
-            "2",
-        ],
+        [sys.executable, "-c", launcher, "segment", str(fifo), "--n-motions", "2"],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
-        # a shell runs background jobs (CI scripts, nohup) with SIGINT ignored,
-        # and the child would inherit it: give it the terminal's default back
-        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     # A writer can open the FIFO only once the command line has opened it to
     # read (inside its main loop, past the imports); it then blocks reading.
@@ -658,11 +657,19 @@ def test_subprocess_ctrl_c(tmp_path):
             break
         except OSError as exc:
             assert exc.errno == errno.ENXIO
-            assert process.poll() is None and time.monotonic() < deadline
+            if process.poll() is not None or time.monotonic() > deadline:
+                process.kill()
+                pytest.fail(
+                    "the command line never opened its input: "
+                    f"status {process.poll()}, stderr {process.communicate()[1]!r}"
+                )
             time.sleep(0.05)
     try:
         process.send_signal(signal.SIGINT)
         _, err = process.communicate(timeout=120)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        pytest.fail(f"no exit 120 s after SIGINT: {process.communicate()[1]!r}")
     finally:
         os.close(writer)
     assert process.returncode == 130, err
