@@ -165,79 +165,172 @@ def _point_costs(cameras, world, points, seen):
     return np.sum(error**2, axis=(1, 2)), error, xy, depth
 
 
-def _intersection_step(cameras, world, points, seen, damping):
+def _state(cameras, world, points, seen):
+    """``(error, xy, depth)`` of :func:`_point_costs` for every track, chunked."""
+    error = np.empty(points.shape)
+    xy = np.empty(points.shape)
+    depth = np.empty(points.shape[:2])
+    for rows in row_chunks(world.shape[0], _CHUNK):
+        _, error[rows], xy[rows], depth[rows] = _point_costs(
+            cameras, world[rows], points[rows], seen[rows]
+        )
+    return error, xy, depth
+
+
+def _point_normal_equations(cameras, error, xy, depth, seen):
+    """Gauss-Newton normal equations of every track's point, cameras fixed.
+
+    ``error``, ``xy`` and ``depth`` are :func:`_point_costs`'s at the current
+    points. Returns ``gram`` of shape ``(n, 4, 4)`` and ``rhs`` of shape
+    ``(n, 4)``: ``J^T J`` and ``J^T r`` of the residuals ``r = error``.
+    """
+    # The Jacobian rows of a point-frame are (P_1 - x P_3) / d and
+    # (P_2 - y P_3) / d (zero where unseen; (x, y) the projection, d its
+    # depth): J^T J sums over the frames four fixed 4 x 4 matrices per frame
+    # weighted by w / d^2 times 1, x, y and x^2 + y^2, one (n, 4 F) @ (4 F, 16)
+    # product; J^T r is one (n, 3 F) @ (3 F, 4) product.
+    p1, p2, p3 = cameras[:, 0], cameras[:, 1], cameras[:, 2]
+
+    def outer(a, b):
+        return a[:, :, None] * b[:, None, :]
+
+    frame_blocks = np.stack(
+        [
+            outer(p1, p1) + outer(p2, p2),
+            -(outer(p1, p3) + outer(p3, p1)),
+            -(outer(p2, p3) + outer(p3, p2)),
+            outer(p3, p3),
+        ]
+    ).reshape(-1, 16)
+    px, py = xy[..., 0], xy[..., 1]
+    h = seen / depth
+    g = h / depth
+    weights = np.concatenate([g, g * px, g * py, g * (px * px + py * py)], axis=1)
+    gram = (weights @ frame_blocks).reshape(-1, 4, 4)
+    ex, ey = error[..., 0], error[..., 1]
+    coefficients = np.stack([h * ex, h * ey, -h * (px * ex + py * ey)], axis=2)
+    rhs = coefficients.reshape(error.shape[0], -1) @ cameras.reshape(-1, 4)
+    return gram, rhs
+
+
+def _camera_normal_equations(world, error, xy, depth, seen):
+    """Gauss-Newton normal equations of every frame's camera, points fixed.
+
+    Returns ``gram`` of shape ``(F, 12, 12)`` and ``rhs`` of shape
+    ``(F, 12)`` (the camera's rows concatenated), summed over the tracks.
+    """
+    # The Jacobian rows of a point-frame are [s, 0, -x s] and [0, s, -y s]
+    # (s = X / d, zero where unseen): J^T J is made of the sums over the
+    # tracks of X X^T weighted by w / d^2 times 1, x, y and x^2 + y^2, one
+    # (4 F, n) @ (n, 16) product; J^T r is one (3 F, n) @ (n, 4) product.
+    n_tracks, n_frames = error.shape[:2]
+    px, py = xy[..., 0], xy[..., 1]
+    ex, ey = error[..., 0], error[..., 1]
+    h = seen / depth
+    g = h / depth
+    weights = np.concatenate([g, g * px, g * py, g * (px * px + py * py)], axis=1)
+    products = (world[:, :, None] * world[:, None, :]).reshape(n_tracks, 16)
+    blocks = (weights.T @ products).reshape(4, n_frames, 4, 4)
+    gram = np.zeros((n_frames, 12, 12))
+    gram[:, 0:4, 0:4] = blocks[0]
+    gram[:, 4:8, 4:8] = blocks[0]
+    gram[:, 0:4, 8:12] = -blocks[1]
+    gram[:, 4:8, 8:12] = -blocks[2]
+    gram[:, 8:12, 8:12] = blocks[3]
+    gram[:, 8:12, 0:4] = -blocks[1]
+    gram[:, 8:12, 4:8] = -blocks[2]
+    coefficients = np.concatenate([h * ex, h * ey, -h * (px * ex + py * ey)], axis=1)
+    sums = (coefficients.T @ world).reshape(3, n_frames, 4)
+    rhs = np.concatenate([sums[0], sums[1], sums[2]], axis=1)
+    return gram, rhs
+
+
+def _intersection_step(cameras, world, points, seen, damping, state=None):
     """One Levenberg-Marquardt step on every track's point, cameras fixed.
 
-    Returns the points and their new damping.
+    ``state`` is :func:`_state` at ``(cameras, world)`` (None: computed).
+    Returns the points, their new damping and the state at the new points
+    (each track's from the fit it keeps: no further pass is needed).
     """
+    error, xy, depth = _state(cameras, world, points, seen) if state is None else state
     out = world.copy()
     damping = damping.copy()
+    new_error, new_xy, new_depth = error.copy(), xy.copy(), depth.copy()
     for rows in row_chunks(world.shape[0], _CHUNK):
         x, w = points[rows], seen[rows]
-        cost, error, xy, depth = _point_costs(cameras, world[rows], x, w)
-        jac = (cameras[None, :, :2, :] - xy[..., None] * cameras[None, :, 2:3, :]) / (
-            depth[..., None, None]
+        gram, rhs = _point_normal_equations(
+            cameras, error[rows], xy[rows], depth[rows], w
         )
-        jac = (jac * w[..., None, None]).reshape(x.shape[0], -1, 4)
-        jt = jac.transpose(0, 2, 1)
-        rhs = (jt @ error.reshape(x.shape[0], -1, 1))[..., 0]
-        trial = _unit(world[rows] - _solve_damped(jt @ jac, rhs, damping[rows]))
+        trial = _unit(world[rows] - _solve_damped(gram, rhs, damping[rows]))
+        trial_cost, trial_error, trial_xy, trial_depth = _point_costs(
+            cameras, trial, x, w
+        )
         better, damping[rows] = _accept(
-            cost, _point_costs(cameras, trial, x, w)[0], damping[rows]
+            np.sum(error[rows] ** 2, axis=(1, 2)), trial_cost, damping[rows]
         )
         out[rows] = np.where(better[:, None], trial, world[rows])
-    return out, damping
+        keep = np.flatnonzero(better)
+        if keep.size:
+            chunk = np.arange(world.shape[0])[rows][keep]
+            new_error[chunk] = trial_error[keep]
+            new_xy[chunk] = trial_xy[keep]
+            new_depth[chunk] = trial_depth[keep]
+    return out, damping, (new_error, new_xy, new_depth)
 
 
-def _camera_costs(cameras, world, points, seen):
-    """Reprojection error of every frame over the given tracks."""
-    total = np.zeros(cameras.shape[0])
-    for rows in row_chunks(world.shape[0], _CHUNK):
-        _, error, _, _ = _point_costs(cameras, world[rows], points[rows], seen[rows])
-        total += np.sum(error**2, axis=(0, 2))
-    return total
-
-
-def _resection_step(cameras, world, points, seen, damping):
+def _resection_step(cameras, world, points, seen, damping, fit_rows=None, state=None):
     """One Levenberg-Marquardt step on every frame's camera, points fixed.
 
-    Frames seen by fewer than ``MIN_CAMERA_POINTS`` of the tracks keep their
-    camera. Returns the cameras and their new damping.
+    The normal equations and the costs that accept a step are summed over
+    ``fit_rows`` (None: every track); frames seen by fewer than
+    ``MIN_CAMERA_POINTS`` of them keep their camera. ``state`` is
+    :func:`_state` at ``(cameras, world)`` (None: computed). Returns the
+    cameras, their new damping and the state at the new cameras (each
+    frame's from the camera it keeps).
     """
     n_frames = cameras.shape[0]
+    if fit_rows is None:
+        fit_rows = np.ones(world.shape[0], dtype=bool)
+    error, xy, depth = _state(cameras, world, points, seen) if state is None else state
+    fit_index = np.flatnonzero(fit_rows)
     gram = np.zeros((n_frames, 12, 12))
     rhs = np.zeros((n_frames, 12))
     cost = np.zeros(n_frames)
-    for rows in row_chunks(world.shape[0], _CHUNK):
-        x, w = points[rows], seen[rows]
-        _, error, xy, depth = _point_costs(cameras, world[rows], x, w)
-        cost += np.sum(error**2, axis=(0, 2))
-        scaled = world[rows][:, None, :] / depth[..., None] * w[..., None]
-        jac = np.zeros((*x.shape[:2], 2, 12))
-        jac[..., 0, 0:4] = scaled
-        jac[..., 1, 4:8] = scaled
-        jac[..., 8:12] = -xy[..., None] * scaled[..., None, :]
-        jac = jac.transpose(1, 0, 2, 3).reshape(n_frames, -1, 12)
-        jt = jac.transpose(0, 2, 1)
-        gram += jt @ jac
-        rhs += (jt @ error.transpose(1, 0, 2).reshape(n_frames, -1, 1))[..., 0]
+    for chunk in row_chunks(fit_index.size, _CHUNK):
+        rows = fit_index[chunk]
+        cost += np.sum(error[rows] ** 2, axis=(0, 2))
+        chunk_gram, chunk_rhs = _camera_normal_equations(
+            world[rows], error[rows], xy[rows], depth[rows], seen[rows]
+        )
+        gram += chunk_gram
+        rhs += chunk_rhs
     step = _solve_damped(gram, rhs, damping)
     trial = _unit(cameras.reshape(n_frames, 12) - step).reshape(n_frames, 3, 4)
-    better, damping = _accept(cost, _camera_costs(trial, world, points, seen), damping)
-    better &= np.count_nonzero(seen, axis=0) >= MIN_CAMERA_POINTS
-    return np.where(better[:, None, None], trial, cameras), damping
+    trial_error, trial_xy, trial_depth = _state(trial, world, points, seen)
+    trial_cost = np.zeros(n_frames)
+    for chunk in row_chunks(fit_index.size, _CHUNK):
+        trial_cost += np.sum(trial_error[fit_index[chunk]] ** 2, axis=(0, 2))
+    better, damping = _accept(cost, trial_cost, damping)
+    better &= np.count_nonzero(seen[fit_rows], axis=0) >= MIN_CAMERA_POINTS
+    state = (
+        np.where(better[None, :, None], trial_error, error),
+        np.where(better[None, :, None], trial_xy, xy),
+        np.where(better[None, :], trial_depth, depth),
+    )
+    return np.where(better[:, None, None], trial, cameras), damping, state
 
 
 def _alternate(cameras, world, points, seen, n_iter, fit_rows):
     """``n_iter`` intersection and resection steps (``fit_rows`` resect)."""
     point_damping = np.full(world.shape[0], START_DAMPING)
     camera_damping = np.full(cameras.shape[0], START_DAMPING)
+    state = None
     for _ in range(n_iter):
-        world, point_damping = _intersection_step(
-            cameras, world, points, seen, point_damping
+        world, point_damping, state = _intersection_step(
+            cameras, world, points, seen, point_damping, state
         )
-        cameras, camera_damping = _resection_step(
-            cameras, world[fit_rows], points[fit_rows], seen[fit_rows], camera_damping
+        cameras, camera_damping, state = _resection_step(
+            cameras, world, points, seen, camera_damping, fit_rows, state
         )
     return cameras, world
 
@@ -315,15 +408,15 @@ def _sequential_fit(X0, mask, points, seen):
         resected = known & seen[:, frame]
         cameras[frame] = cameras[frame - 1]
         if resected.sum() >= MIN_CAMERA_POINTS:
-            camera = resect(world[resected], points[resected, frame])[None]
+            known_world = world[resected]
+            known_points = points[resected, frame : frame + 1]
+            known_seen = seen[resected, frame : frame + 1]
+            camera = resect(known_world, known_points[:, 0])[None]
             damping = np.full(1, START_DAMPING)
+            state = None
             for _ in range(STEP_ITERATIONS):
-                camera, damping = _resection_step(
-                    camera,
-                    world[resected],
-                    points[resected, frame : frame + 1],
-                    seen[resected, frame : frame + 1],
-                    damping,
+                camera, damping, state = _resection_step(
+                    camera, known_world, known_points, known_seen, damping, state=state
                 )
             cameras[frame] = camera[0]
         end = frame + 1
@@ -387,8 +480,11 @@ def _residuals(X0, mask, cameras, supported):
     seen = seen & supported[None, :]
     world = triangulate(cameras, points, seen)
     damping = np.full(world.shape[0], START_DAMPING)
+    state = None
     for _ in range(3):
-        world, damping = _intersection_step(cameras, world, points, seen, damping)
+        world, damping, state = _intersection_step(
+            cameras, world, points, seen, damping, state
+        )
     residuals = np.empty(points.shape[0])
     for rows in row_chunks(points.shape[0], _CHUNK):
         u = _projections(cameras, world[rows])

@@ -12,6 +12,9 @@ from sklearn_gpca._observed_subspaces import (
 )
 from sklearn_gpca._projective_motion import (
     MIN_CAMERA_POINTS,
+    _camera_normal_equations,
+    _point_costs,
+    _point_normal_equations,
     affine_cameras,
     fit_projective_motion,
     projective_residuals,
@@ -248,3 +251,54 @@ def test_units_do_not_matter(scale):
     X, _ = _scene(noise=noise, speed=4.0, seed=1)
     base = np.median(_per_dof(X))
     assert np.median(_per_dof(scale * X)) / scale**2 == pytest.approx(base, rel=1e-6)
+
+
+def _numeric_jacobian(residual, x, step=1e-6):
+    base = residual(x)
+    columns = []
+    for j in range(x.size):
+        moved = x.copy()
+        moved.flat[j] += step
+        columns.append((residual(moved) - base) / step)
+    return np.column_stack(columns)
+
+
+def test_normal_equations_are_those_of_the_reprojection_error():
+    """J^T J and J^T r of the batched steps, against finite differences of
+    the reprojection residuals of one track (points) and one frame (camera)."""
+    rng = np.random.default_rng(0)
+    n_tracks, n_frames = 7, 5
+    cameras = rng.standard_normal((n_frames, 3, 4))
+    cameras[:, 2, 3] += 10.0  # every point well in front of every camera
+    world = np.column_stack([rng.standard_normal((n_tracks, 3)), np.ones(n_tracks)])
+    points = rng.standard_normal((n_tracks, n_frames, 2))
+    seen = rng.random((n_tracks, n_frames)) < 0.7
+    _, error, xy, depth = _point_costs(cameras, world, points, seen)
+
+    gram, rhs = _point_normal_equations(cameras, error, xy, depth, seen)
+    for p in range(n_tracks):
+
+        def residual(point, p=p):
+            return _point_costs(
+                cameras, point[None], points[p : p + 1], seen[p : p + 1]
+            )[1].ravel()
+
+        jac = _numeric_jacobian(residual, world[p])
+        np.testing.assert_allclose(gram[p], jac.T @ jac, rtol=1e-4, atol=1e-6)
+        np.testing.assert_allclose(
+            rhs[p], jac.T @ error[p].ravel(), rtol=1e-4, atol=1e-6
+        )
+
+    gram, rhs = _camera_normal_equations(world, error, xy, depth, seen)
+    for f in range(n_frames):
+
+        def residual(camera, f=f):
+            moved = cameras.copy()
+            moved[f] = camera.reshape(3, 4)
+            return _point_costs(moved, world, points, seen)[1][:, f].ravel()
+
+        jac = _numeric_jacobian(residual, cameras[f].ravel())
+        np.testing.assert_allclose(gram[f], jac.T @ jac, rtol=1e-4, atol=1e-6)
+        np.testing.assert_allclose(
+            rhs[f], jac.T @ error[:, f].ravel(), rtol=1e-4, atol=1e-6
+        )
