@@ -118,6 +118,10 @@ def main(argv=None):
     command = "python benchmarks/bench_projective_fit.py" + (
         f" --against {args.against}" if args.against else ""
     )
+    if args.out:
+        command += f" --out {args.out}"
+    if "OMP_NUM_THREADS" in os.environ:
+        command = f"OMP_NUM_THREADS={threads} {command}"
     page = (
         "# Perspective-camera fit: time against an affine fit of the same tracks\n\n"
         f"`{command}`, {stamp} UTC, BLAS threads: {threads}. Each time is the "
