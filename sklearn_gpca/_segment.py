@@ -573,10 +573,10 @@ def segment_motions(
         where the perspective background fits every one of its tracks to
         the noise. Measured (``benchmarks/results/perspective_background*.md``,
         ``make_tracks`` draws with the outlier tracks removed, each with its
-        default ``selection``): seeds 0-3 6.65 % against 12.07 % without,
-        seeds 20-23 5.80 % against 10.93 % (hand-held scenes, seeds
+        default ``selection``): seeds 0-3 6.67 % against 12.17 % without,
+        seeds 20-23 5.84 % against 11.10 % (hand-held scenes, seeds
         0-3: 2.2 against 15.0 % at 40 frames, 6.4 against 23.3 % at 100);
-        about 2.5 times the time. False: the subspace candidates only.
+        about 2.8 times the time. False: the subspace candidates only.
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
     return_info : bool, default=False
