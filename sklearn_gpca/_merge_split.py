@@ -23,7 +23,6 @@ from sklearn_gpca._fragments import (
     merge_fragments,
     over_segment,
 )
-from sklearn_gpca._segment_selection import select_segmentation
 
 
 def split_in_two(X0, mask, affinity, noise, *, min_size, per_fragment, random_state):
@@ -112,9 +111,7 @@ def merge_split_moves(labels, n_clusters, split):
     return moves
 
 
-def merge_split_search(
-    labels, n_clusters, *, split, refine, judge, tolerance, max_rounds
-):
+def merge_split_search(labels, n_clusters, *, split, refine, choose, max_rounds):
     """Apply the best merge/split move while the selection rule prefers it.
 
     Parameters
@@ -125,11 +122,12 @@ def merge_split_search(
     split : callable
         See :func:`merge_split_moves`.
     refine : callable
-        ``refine(labels)`` -> refined labels.
-    judge : callable
-        ``judge(labels)`` -> ``(coding length, ambiguous fraction)``.
-    tolerance : float
-        Slack of :func:`select_segmentation` (``selection="separability"``).
+        ``refine(labels)`` -> list of refined labels (one or more refinements
+        of the move).
+    choose : callable
+        ``choose(segmentations)`` -> index of the one the selection rule
+        keeps; ``segmentations[0]`` is the current one (index 0 stops the
+        search).
     max_rounds : int
         Most moves kept.
 
@@ -141,19 +139,16 @@ def merge_split_search(
     """
     labels = np.asarray(labels, dtype=np.intp)
     split = cached_split(split)
-    length, ambiguity = judge(labels)
     for n_moves in range(max_rounds):
         refined = [
-            refine(move) for move in merge_split_moves(labels, n_clusters, split)
+            segmentation
+            for move in merge_split_moves(labels, n_clusters, split)
+            for segmentation in refine(move)
         ]
         if not refined:
             return labels, n_moves
-        scores = np.array([(length, ambiguity)] + [judge(r) for r in refined])
-        chosen = select_segmentation(
-            scores[:, 0], scores[:, 1], selection="separability", tolerance=tolerance
-        )
+        chosen = choose([labels, *refined])
         if chosen == 0:
             return labels, n_moves
         labels = refined[chosen - 1]
-        length, ambiguity = scores[chosen]
     return labels, max_rounds

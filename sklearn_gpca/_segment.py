@@ -295,9 +295,30 @@ def track_graph(X0, mask, n_neighbors, *, random_state):
     return neighbors, noise, affinity, weights
 
 
-def _merge_split(X0, mask, labels, n_motions, affinity, noise, refine_kwargs):
-    """Merge/split moves from ``labels``, judged by ``selection="separability"``."""
+def _merge_split(
+    X0,
+    mask,
+    labels,
+    n_motions,
+    affinity,
+    noise,
+    refine_kwargs,
+    *,
+    selection,
+    perspective_background,
+):
+    """Merge/split moves from ``labels``, judged by the rule of ``selection``.
+
+    With ``selection="consistency"`` each move is refined as the candidates
+    are (the largest motion seen by a perspective camera with
+    ``perspective_background``) and judged by its penalised fit; otherwise
+    refined with subspaces and judged by ``selection="separability"``.
+    """
     random_state = refine_kwargs["random_state"]
+    subspace_dim = refine_kwargs["subspace_dim"]
+    by_consistency = selection == "consistency"
+    perspective = by_consistency and perspective_background
+    cameras = {}
 
     def split(members):
         return split_in_two(
@@ -310,10 +331,29 @@ def _merge_split(X0, mask, labels, n_motions, affinity, noise, refine_kwargs):
             random_state=random_state,
         )
 
-    def refine(start):
-        return refine_observed(X0, mask, start, n_motions, **refine_kwargs)[0]
+    def refine_once(start, perspective):
+        background = int(np.argmax(np.bincount(start[start >= 0], minlength=n_motions)))
+        refined, models, *_ = refine_observed(
+            X0,
+            mask,
+            start,
+            n_motions,
+            perspective_cluster=background if perspective else None,
+            **refine_kwargs,
+        )
+        if perspective:
+            cameras[refined.tobytes()] = models[background]
+        return refined
 
-    def judge(candidate):
+    def refine(start):
+        # as the candidates: refined with subspaces and, with the perspective
+        # background, also with its largest motion seen by a perspective camera
+        refined = [refine_once(start, False)]
+        if perspective:
+            refined.append(refine_once(start, True))
+        return refined
+
+    def separability(candidate):
         if np.unique(candidate).size < 2:
             return coding_length(X0, candidate, noise, mask), np.nan
         return coding_length(X0, candidate, noise, mask), ambiguous_fraction(
@@ -321,7 +361,47 @@ def _merge_split(X0, mask, labels, n_motions, affinity, noise, refine_kwargs):
             mask,
             candidate,
             noise,
-            subspace_dim=max(refine_kwargs["subspace_dim"] - AMBIGUITY_DIM_DROP, 1),
+            subspace_dim=max(subspace_dim - AMBIGUITY_DIM_DROP, 1),
+        )
+
+    judged = {}
+
+    def consistency(candidate, common):
+        key = (_partition_key(candidate[common]), common.tobytes())
+        if key not in judged:
+            judged[key] = model_consistency(
+                X0[common],
+                mask[common],
+                candidate[common],
+                noise,
+                subspace_dim=subspace_dim,
+                perspective_background=perspective_background,
+                cameras=cameras.get(candidate.tobytes()),
+            )
+        return judged[key]
+
+    def choose(segmentations):
+        if not by_consistency:
+            scores = np.array([separability(s) for s in segmentations])
+            return select_segmentation(
+                scores[:, 0],
+                scores[:, 1],
+                selection="separability",
+                tolerance=AMBIGUITY_TOLERANCE,
+            )
+        # judged, as the candidates are, on the tracks none calls an outlier
+        common = np.logical_and.reduce([s >= 0 for s in segmentations])
+        scores = np.array([consistency(s, common) for s in segmentations])
+        lengths = [coding_length(X0, s, noise, mask) for s in segmentations]
+        return select_segmentation(
+            lengths,
+            np.zeros(len(segmentations)),
+            selection="consistency",
+            tolerance=CONSISTENCY_TOLERANCE,
+            inconsistency=scores[:, 0],
+            residual=scores[:, 1],
+            misfit_cost=MISFIT_COST,
+            n_tracks=int(np.count_nonzero(common)),
         )
 
     return merge_split_search(
@@ -329,8 +409,7 @@ def _merge_split(X0, mask, labels, n_motions, affinity, noise, refine_kwargs):
         n_motions,
         split=split,
         refine=refine,
-        judge=judge,
-        tolerance=AMBIGUITY_TOLERANCE,
+        choose=choose,
         max_rounds=MAX_MOVES_PER_MOTION * n_motions,
     )
 
@@ -926,7 +1005,15 @@ def _segment_tracks(
     n_moves = 0
     if merge_split and n_motions > 1:
         labels, n_moves = _merge_split(
-            X0, mask, labels, n_motions, affinity, noise, refine_kwargs
+            X0,
+            mask,
+            labels,
+            n_motions,
+            affinity,
+            noise,
+            refine_kwargs,
+            selection=selection,
+            perspective_background=perspective_background,
         )
     warn_empty_motions(labels, n_motions, X)
     if return_info:

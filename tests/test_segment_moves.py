@@ -11,6 +11,7 @@ from sklearn_gpca._merge_split import (
     merge_split_moves,
     merge_split_search,
 )
+from sklearn_gpca._segment_selection import select_segmentation
 from sklearn_gpca.datasets import make_motions, make_tracks
 from sklearn_gpca.metrics import misclassification_rate, oracle_labels
 
@@ -99,6 +100,16 @@ def test_cached_split_calls_once_per_member_set():
     assert len(calls) == 2
 
 
+def _separability_choice(judge, *, tolerance):
+    def choose(segmentations):
+        scores = np.array([judge(s) for s in segmentations])
+        return select_segmentation(
+            scores[:, 0], scores[:, 1], selection="separability", tolerance=tolerance
+        )
+
+    return choose
+
+
 def test_merge_split_search_stops_when_the_rule_keeps_the_current():
     labels = np.repeat([0, 1], 5)
 
@@ -111,9 +122,8 @@ def test_merge_split_search_stops_when_the_rule_keeps_the_current():
         labels,
         2,
         split=lambda m: (np.arange(m.size) % 2).astype(np.intp),
-        refine=lambda start: start,
-        judge=judge,
-        tolerance=0.04,
+        refine=lambda start: [start],
+        choose=_separability_choice(judge, tolerance=0.04),
         max_rounds=3,
     )
     assert n_moves == 0 and np.array_equal(found, labels)
@@ -131,9 +141,8 @@ def test_merge_split_search_takes_a_better_move():
         start,
         2,
         split=lambda m: (np.arange(m.size) >= m.size // 2).astype(np.intp),
-        refine=lambda s: s,
-        judge=judge,
-        tolerance=0.0,
+        refine=lambda s: [s],
+        choose=_separability_choice(judge, tolerance=0.0),
         max_rounds=3,
     )
     assert n_moves >= 1
