@@ -567,20 +567,19 @@ def segment_motions(
         After the selection, try merge/split moves on the kept segmentation
         (:mod:`sklearn_gpca._merge_split`): two motions merged into one and
         one cluster cut in two, every such move refined, the best kept while
-        ``selection="separability"``'s rule prefers it to the current
-        segmentation (at most ``n_motions`` moves). This repairs the typical
-        error of every candidate on tracker output: one motion cut in two
-        while two others share a label. It costs one refinement and one
+        the rule of ``selection`` prefers it to the current segmentation (at
+        most ``n_motions`` moves). With ``selection="consistency"`` each move
+        is refined as the candidates are (with subspaces and, with
+        ``perspective_background``, also with its largest motion seen by a
+        perspective camera) and judged by its penalised fit; with the other
+        rules, refined with subspaces and judged by
+        ``selection="separability"``'s rule. This repairs the typical error
+        of every candidate on tracker output: one motion cut in two while
+        two others share a label. It costs one or two refinements and one
         judgement per move and round (``n_motions (n_motions - 1)^2 / 2``
-        moves per round). Off by default: the rule that judges the moves
-        also accepts wrong ones (a shorter coding length within the
-        ambiguity tolerance). Measured (``benchmarks/results/
-        segment_tracks.md``, 24 ``make_tracks`` draws): 13.2 % against the
-        default's 13.0 % (handheld 3 motions 30.9 -> 21.3 %, driving 3
-        motions 11.1 -> 17.0 %); every 5th Hopkins155 sequence
-        (``segment_hopkins_subset5.md``): 3.38 % against 1.17 %; with 30 %
-        occlusion (``segment_occlusion_subset5.md``) 1.85 % against 1.72 %. A planted
-        merge-and-cut start is repaired (``tests/test_segment_moves.py``).
+        moves per round). Off by default (see
+        ``benchmarks/results/merge_split*.md``). A planted merge-and-cut
+        start is repaired (``tests/test_segment_moves.py``).
     subspace_dim : int, default=4
         Dimension of the motion subspaces of the refinement (4 for a rigid
         motion seen by an affine camera).

@@ -38,18 +38,25 @@ def _merged_and_cut(X, y):
     return planted
 
 
+@pytest.mark.parametrize("selection", ["consistency", "separability"])
 @pytest.mark.parametrize(("missing", "seed"), [(0.0, 0), (0.0, 1), (0.3, 0)])
-def test_moves_fix_planted_merge_and_cut(missing, seed):
+def test_moves_fix_planted_merge_and_cut(missing, seed, selection):
     # half the tracks are misassigned, and the refinement alone keeps the
     # error (each half of the background fits its own subspace, the two
     # merged objects share a 4-D subspace well enough); one move fixes both
     X, y = _apart_draw(missing, seed)
     planted = _merged_and_cut(X, y)
     assert misclassification_rate(y, planted) == 0.5
-    refined = segment_motions(X, 3, init=planted, random_state=0)
+    refined = segment_motions(X, 3, init=planted, selection=selection, random_state=0)
     assert misclassification_rate(y, refined) > 0.3
     moved, info = segment_motions(
-        X, 3, init=planted, merge_split=True, random_state=0, return_info=True
+        X,
+        3,
+        init=planted,
+        merge_split=True,
+        selection=selection,
+        random_state=0,
+        return_info=True,
     )
     assert info.n_moves >= 1
     assert misclassification_rate(y, moved) < 0.02
