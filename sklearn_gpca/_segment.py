@@ -170,6 +170,32 @@ def _partition_key(labels):
     return order[inverse].tobytes()
 
 
+def _consistency_scores(
+    X0, mask, segmentations, cameras, noise, *, common, **consistency_kwargs
+):
+    """:func:`model_consistency` of every segmentation on the ``common`` tracks.
+
+    ``cameras[k]`` starts the perspective fit of ``segmentations[k]`` (None:
+    from scratch); equal partitions are judged once. Returns an array of
+    shape ``(len(segmentations), 2)``: the inconsistency and the fit.
+    """
+    judged = {}
+    scores = np.full((len(segmentations), 2), np.nan)
+    for k, labels in enumerate(segmentations):
+        key = _partition_key(labels[common])
+        if key not in judged:
+            judged[key] = model_consistency(
+                X0[common],
+                mask[common],
+                labels[common],
+                noise,
+                cameras=cameras[k],
+                **consistency_kwargs,
+            )
+        scores[k] = judged[key]
+    return scores
+
+
 def track_fragments(affinity, n_motions, *, random_state):
     """Spectral over-segmentation of the motion graph, small fragments absorbed."""
     n_samples = affinity.shape[0]
@@ -310,8 +336,9 @@ def _merge_split(
     """Merge/split moves from ``labels``, judged by the rule of ``selection``.
 
     With ``selection="consistency"`` each move is refined as the candidates
-    are (the largest motion seen by a perspective camera with
-    ``perspective_background``) and judged by its penalised fit; otherwise
+    are (with subspaces and, with ``perspective_background``, also with its
+    largest motion seen by a perspective camera) and judged by its penalised
+    fit; otherwise
     refined with subspaces and judged by ``selection="separability"``.
     """
     random_state = refine_kwargs["random_state"]
@@ -364,22 +391,6 @@ def _merge_split(
             subspace_dim=max(subspace_dim - AMBIGUITY_DIM_DROP, 1),
         )
 
-    judged = {}
-
-    def consistency(candidate, common):
-        key = (_partition_key(candidate[common]), common.tobytes())
-        if key not in judged:
-            judged[key] = model_consistency(
-                X0[common],
-                mask[common],
-                candidate[common],
-                noise,
-                subspace_dim=subspace_dim,
-                perspective_background=perspective_background,
-                cameras=cameras.get(candidate.tobytes()),
-            )
-        return judged[key]
-
     def choose(segmentations):
         if not by_consistency:
             scores = np.array([separability(s) for s in segmentations])
@@ -391,7 +402,16 @@ def _merge_split(
             )
         # judged, as the candidates are, on the tracks none calls an outlier
         common = np.logical_and.reduce([s >= 0 for s in segmentations])
-        scores = np.array([consistency(s, common) for s in segmentations])
+        scores = _consistency_scores(
+            X0,
+            mask,
+            segmentations,
+            [cameras.get(s.tobytes()) for s in segmentations],
+            noise,
+            common=common,
+            subspace_dim=subspace_dim,
+            perspective_background=perspective_background,
+        )
         lengths = [coding_length(X0, s, noise, mask) for s in segmentations]
         return select_segmentation(
             lengths,
@@ -945,20 +965,16 @@ def _segment_tracks(
     )
     consistency = np.full((len(refined), 2), np.nan)
     if selection == "consistency" or return_info:
-        judged = {}
-        for k, labels in enumerate(refined):
-            key = _partition_key(labels[common])
-            if key not in judged:
-                judged[key] = model_consistency(
-                    X0[common],
-                    mask[common],
-                    labels[common],
-                    noise,
-                    subspace_dim=subspace_dim,
-                    perspective_background=perspective_background,
-                    cameras=cameras[k],
-                )
-            consistency[k] = judged[key]
+        consistency = _consistency_scores(
+            X0,
+            mask,
+            refined,
+            cameras,
+            noise,
+            common=common,
+            subspace_dim=subspace_dim,
+            perspective_background=perspective_background,
+        )
     fitted = np.full(len(refined), np.nan)
     if selection == "fitted_separability":
         min_dim = max(subspace_dim - AMBIGUITY_DIM_DROP, 1)
