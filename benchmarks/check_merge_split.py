@@ -28,10 +28,8 @@ import os
 import time
 import warnings
 
-import numpy as np
 from _tables import markdown_table, write_markdown
-from bench_segment import TRACK_SETTINGS
-from check_perspective_background import draws
+from check_perspective_background import draws, setting_table
 from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
@@ -66,25 +64,7 @@ def main(argv=None):
     )
     wall = time.perf_counter() - begin
     methods = ["default", "merge_split", "oracle"]
-    settings = list(dict.fromkeys(r["setting"] for r in rows))
-    table = []
-    for setting in [*settings, "all make_tracks settings"]:
-        mine = [
-            r
-            for r in rows
-            if r["setting"] == setting
-            or (setting.startswith("all") and r["setting"] in TRACK_SETTINGS)
-        ]
-        if not mine:
-            continue
-        table.append(
-            [setting, str(len(mine))]
-            + [f"{100 * np.mean([r[m] for r in mine]):.2f}" for m in methods]
-            + [
-                f"{np.median([r['default_s'] for r in mine]):.2f}",
-                f"{np.median([r['merge_split_s'] for r in mine]):.2f}",
-            ]
-        )
+    table = setting_table(rows, methods, ["default_s", "merge_split_s"])
     command = "python benchmarks/check_merge_split.py " + " ".join(
         (f"--seeds {' '.join(map(str, args.seeds))}",)
         + ((f"--hopkins {args.hopkins} --step {args.step}",) if args.hopkins else ())

@@ -81,20 +81,12 @@ def draws(seeds, hopkins, step):
                 yield setting, f"{bunch.name} (occluded)", X, bunch.y, 2
 
 
-def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--seeds", type=int, nargs="*", default=[0, 1, 2, 3])
-    parser.add_argument("--hopkins", default=None, help="Hopkins155 folder")
-    parser.add_argument("--step", type=int, default=1, help="every k-th sequence")
-    parser.add_argument("--jobs", type=int, default=2)
-    parser.add_argument("--out", default="benchmarks/results/perspective_background.md")
-    args = parser.parse_args(argv)
-    begin = time.perf_counter()
-    rows = Parallel(n_jobs=args.jobs)(
-        delayed(run_one)(*draw) for draw in draws(args.seeds, args.hopkins, args.step)
-    )
-    wall = time.perf_counter() - begin
-    methods = ["default", "affine", "oracle", "perspective oracle"]
+def setting_table(rows, methods, seconds):
+    """Rows of the summary: per setting, then over all ``make_tracks`` settings.
+
+    Each holds the setting, its number of sequences, the mean error (%) of
+    every key of ``methods`` and the median of every key of ``seconds``.
+    """
     settings = list(dict.fromkeys(r["setting"] for r in rows))
     table = []
     for setting in [*settings, "all make_tracks settings"]:
@@ -109,11 +101,26 @@ def main(argv=None):
         table.append(
             [setting, str(len(mine))]
             + [f"{100 * np.mean([r[m] for r in mine]):.2f}" for m in methods]
-            + [
-                f"{np.median([r['default_s'] for r in mine]):.2f}",
-                f"{np.median([r['affine_s'] for r in mine]):.2f}",
-            ]
+            + [f"{np.median([r[key] for r in mine]):.2f}" for key in seconds]
         )
+    return table
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, nargs="*", default=[0, 1, 2, 3])
+    parser.add_argument("--hopkins", default=None, help="Hopkins155 folder")
+    parser.add_argument("--step", type=int, default=1, help="every k-th sequence")
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--out", default="benchmarks/results/perspective_background.md")
+    args = parser.parse_args(argv)
+    begin = time.perf_counter()
+    rows = Parallel(n_jobs=args.jobs)(
+        delayed(run_one)(*draw) for draw in draws(args.seeds, args.hopkins, args.step)
+    )
+    wall = time.perf_counter() - begin
+    methods = ["default", "affine", "oracle", "perspective oracle"]
+    table = setting_table(rows, methods, ["default_s", "affine_s"])
     command = "python benchmarks/check_perspective_background.py " + " ".join(
         (f"--seeds {' '.join(map(str, args.seeds))}",)
         + ((f"--hopkins {args.hopkins} --step {args.step}",) if args.hopkins else ())
