@@ -171,18 +171,27 @@ def _partition_key(labels):
 
 
 def _consistency_scores(
-    X0, mask, segmentations, cameras, noise, *, common, **consistency_kwargs
+    X0,
+    mask,
+    segmentations,
+    cameras,
+    noise,
+    *,
+    common,
+    judged=None,
+    **consistency_kwargs,
 ):
     """:func:`model_consistency` of every segmentation on the ``common`` tracks.
 
     ``cameras[k]`` starts the perspective fit of ``segmentations[k]`` (None:
-    from scratch); equal partitions are judged once. Returns an array of
-    shape ``(len(segmentations), 2)``: the inconsistency and the fit.
+    from scratch); equal partitions are judged once, also across calls that
+    pass the same dict ``judged``. Returns an array of shape
+    ``(len(segmentations), 2)``: the inconsistency and the fit.
     """
-    judged = {}
+    judged = {} if judged is None else judged
     scores = np.full((len(segmentations), 2), np.nan)
     for k, labels in enumerate(segmentations):
-        key = _partition_key(labels[common])
+        key = (_partition_key(labels[common]), common.tobytes())
         if key not in judged:
             judged[key] = model_consistency(
                 X0[common],
@@ -330,22 +339,28 @@ def _merge_split(
     noise,
     refine_kwargs,
     *,
+    refine_once,
     selection,
     perspective_background,
 ):
     """Merge/split moves from ``labels``, judged by the rule of ``selection``.
 
-    With ``selection="consistency"`` each move is refined as the candidates
-    are (with subspaces and, with ``perspective_background``, also with its
+    ``refine_once(start, perspective)`` is the candidates' refinement (returns
+    the labels, the rounds and the perspective cameras). With
+    ``selection="consistency"`` each move is refined as the candidates are
+    (with subspaces and, with ``perspective_background``, also with its
     largest motion seen by a perspective camera) and judged by its penalised
-    fit; otherwise
-    refined with subspaces and judged by ``selection="separability"``.
+    fit; otherwise refined with subspaces and judged by
+    ``selection="separability"``.
     """
     random_state = refine_kwargs["random_state"]
     subspace_dim = refine_kwargs["subspace_dim"]
     by_consistency = selection == "consistency"
-    perspective = by_consistency and perspective_background
+    perspectives = (
+        (False, True) if by_consistency and perspective_background else (False,)
+    )
     cameras = {}
+    judged = {}
 
     def split(members):
         return split_in_two(
@@ -358,38 +373,31 @@ def _merge_split(
             random_state=random_state,
         )
 
-    def refine_once(start, perspective):
-        background = int(np.argmax(np.bincount(start[start >= 0], minlength=n_motions)))
-        refined, models, *_ = refine_observed(
-            X0,
-            mask,
-            start,
-            n_motions,
-            perspective_cluster=background if perspective else None,
-            **refine_kwargs,
-        )
-        if perspective:
-            cameras[refined.tobytes()] = models[background]
-        return refined
-
     def refine(start):
-        # as the candidates: refined with subspaces and, with the perspective
-        # background, also with its largest motion seen by a perspective camera
-        refined = [refine_once(start, False)]
-        if perspective:
-            refined.append(refine_once(start, True))
+        refined = []
+        for perspective in perspectives:
+            moved, _, fitted = refine_once(start, perspective)
+            if fitted is not None:
+                cameras[moved.tobytes()] = fitted
+            refined.append(moved)
         return refined
 
     def separability(candidate):
-        if np.unique(candidate).size < 2:
-            return coding_length(X0, candidate, noise, mask), np.nan
-        return coding_length(X0, candidate, noise, mask), ambiguous_fraction(
-            X0,
-            mask,
-            candidate,
-            noise,
-            subspace_dim=max(subspace_dim - AMBIGUITY_DIM_DROP, 1),
-        )
+        key = _partition_key(candidate)
+        if key not in judged:
+            ambiguity = (
+                ambiguous_fraction(
+                    X0,
+                    mask,
+                    candidate,
+                    noise,
+                    subspace_dim=max(subspace_dim - AMBIGUITY_DIM_DROP, 1),
+                )
+                if np.unique(candidate).size > 1
+                else np.nan
+            )
+            judged[key] = (coding_length(X0, candidate, noise, mask), ambiguity)
+        return judged[key]
 
     def choose(segmentations):
         if not by_consistency:
@@ -409,12 +417,13 @@ def _merge_split(
             [cameras.get(s.tobytes()) for s in segmentations],
             noise,
             common=common,
+            judged=judged,
             subspace_dim=subspace_dim,
             perspective_background=perspective_background,
         )
-        lengths = [coding_length(X0, s, noise, mask) for s in segmentations]
+        # the consistency rule does not read the coding lengths
         return select_segmentation(
-            lengths,
+            np.zeros(len(segmentations)),
             np.zeros(len(segmentations)),
             selection="consistency",
             tolerance=CONSISTENCY_TOLERANCE,
@@ -1027,6 +1036,7 @@ def _segment_tracks(
             affinity,
             noise,
             refine_kwargs,
+            refine_once=refine_once,
             selection=selection,
             perspective_background=perspective_background,
         )
