@@ -14,6 +14,11 @@ sequence of both calls.
 Usage::
 
     python benchmarks/check_merge_split.py --seeds 0 1 2 3
+    python benchmarks/check_merge_split.py --seeds 83 --jobs 1 \
+        --out benchmarks/results/merge_split_threads.md
+
+With ``--jobs 1`` the calls run with the machine's default BLAS threads,
+otherwise with one BLAS thread per job.
     python benchmarks/check_merge_split.py --seeds 80 81 82 83 \\
         --out benchmarks/results/merge_split_seeds80.md
     python benchmarks/check_merge_split.py --seeds --hopkins \\
@@ -37,8 +42,8 @@ from sklearn_gpca import segment_motions
 from sklearn_gpca.metrics import misclassification_rate, oracle_labels
 
 
-def run_one(setting, name, X, y, n):
-    with threadpool_limits(1), warnings.catch_warnings():
+def run_one(setting, name, X, y, n, threads):
+    with threadpool_limits(threads), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         row = {"setting": setting, "name": name}
         for key, merge_split in (("default", False), ("merge_split", True)):
@@ -58,9 +63,12 @@ def main(argv=None):
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--out", default="benchmarks/results/merge_split.md")
     args = parser.parse_args(argv)
+    # one BLAS thread per job when jobs share the cores; else the default
+    threads = 1 if args.jobs > 1 else None
     begin = time.perf_counter()
     rows = Parallel(n_jobs=args.jobs)(
-        delayed(run_one)(*draw) for draw in draws(args.seeds, args.hopkins, args.step)
+        delayed(run_one)(*draw, threads)
+        for draw in draws(args.seeds, args.hopkins, args.step)
     )
     wall = time.perf_counter() - begin
     methods = ["default", "merge_split", "oracle"]
@@ -79,8 +87,9 @@ def main(argv=None):
         [
             "# segment_motions: the merge/split moves",
             "",
-            f"`{command}` ({wall:.0f} s wall time, one BLAS thread per job, "
-            f"{args.jobs} jobs; OMP_NUM_THREADS: "
+            f"`{command}` ({wall:.0f} s wall time, "
+            + ("one BLAS thread per job" if threads else "the default BLAS threads")
+            + f", {args.jobs} jobs; OMP_NUM_THREADS: "
             f"{os.environ.get('OMP_NUM_THREADS', 'unset')}). Misclassification "
             "(%), mean over the sequences (outlier tracks removed); median wall "
             "seconds per sequence. *default*: `segment_motions(X, n)`; "
