@@ -2,7 +2,7 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
-from numbers import Real
+from numbers import Integral, Real
 
 import numpy as np
 from sklearn.base import BaseEstimator, ClusterMixin, _fit_context
@@ -83,6 +83,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
 
+    n_jobs : int or None, default=None
+        Processes that refine and judge the candidates; the labels do not
+        depend on it (see :func:`~sklearn_gpca.segment_motions`). None means
+        1 unless in a :func:`joblib.parallel_config` context, -1 every core.
+
     Attributes
     ----------
     labels_ : ndarray of shape (n_samples,)
@@ -156,6 +161,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         "screen_outliers": ["boolean", StrOptions({"kept"})],
         "perspective_background": ["boolean"],
         "random_state": ["random_state"],
+        "n_jobs": [Integral, None],
     }
 
     def __init__(
@@ -174,6 +180,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         screen_outliers=True,
         perspective_background=True,
         random_state=None,
+        n_jobs=None,
     ):
         self.n_clusters = n_clusters
         self.init = init
@@ -188,6 +195,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.screen_outliers = screen_outliers
         self.perspective_background = perspective_background
         self.random_state = random_state
+        self.n_jobs = n_jobs
 
     @_fit_context(prefer_skip_nested_validation=True)
     def fit(self, X, y=None):
@@ -230,6 +238,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             perspective_background=self.perspective_background,
             random_state=self.random_state,
             return_info=True,
+            n_jobs=self.n_jobs,
         )
         self.labels_ = labels
         self.candidates_ = list(info.candidates)

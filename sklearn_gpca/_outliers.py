@@ -317,10 +317,15 @@ def screened_segmentation(
         everything = segment(
             X, n_motions, init=init, return_info=False, candidates_only=True, **kwargs
         )
+        # their background cameras start the fits that judge them, as those
+        # of the kept tracks' own candidates do (not a fit from scratch)
         extra["extra_candidates"] = [
-            (f"{name}, from every track", labels[kept])
-            for name, labels in zip(
-                everything.candidates, everything.refined, strict=True
+            (f"{name}, from every track", labels[kept], cameras)
+            for name, labels, cameras in zip(
+                everything.candidates,
+                everything.refined,
+                everything.cameras,
+                strict=True,
             )
         ]
     result = segment(

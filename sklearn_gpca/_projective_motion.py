@@ -506,7 +506,7 @@ def _image_scale(X0, mask):
     return float(2.0 ** np.round(np.log2(rms)))
 
 
-def _rescaled(cameras, factor):
+def rescaled_cameras(cameras, factor):
     """Cameras for image coordinates multiplied by ``factor``."""
     return cameras * np.array([factor, factor, 1.0])[None, :, None]
 
@@ -535,9 +535,9 @@ def fit_projective_motion(X0, mask, *, cameras=None):
         two frames or more); the cameras of the others are not determined.
     """
     scale = _image_scale(X0, mask)
-    start = None if cameras is None else _rescaled(cameras, 1 / scale)
+    start = None if cameras is None else rescaled_cameras(cameras, 1 / scale)
     fitted, supported = _fit(X0 / scale, mask, start)
-    return _rescaled(fitted, scale), supported
+    return rescaled_cameras(fitted, scale), supported
 
 
 def projective_residuals(X0, mask, cameras, supported):
@@ -566,6 +566,6 @@ def projective_residuals(X0, mask, cameras, supported):
     """
     scale = _image_scale(X0, mask)
     residuals, dofs = _residuals(
-        X0 / scale, mask, _rescaled(cameras, 1 / scale), supported
+        X0 / scale, mask, rescaled_cameras(cameras, 1 / scale), supported
     )
     return residuals * scale**2, dofs

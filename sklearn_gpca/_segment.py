@@ -42,8 +42,9 @@ sequence -- and returns one motion label per track. Beyond the paper
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import copy
 import warnings
-from numbers import Real
+from numbers import Integral, Real
 
 import numpy as np
 from sklearn.utils import Bunch, check_random_state
@@ -60,6 +61,7 @@ from sklearn_gpca._fragments import (
     over_segment,
 )
 from sklearn_gpca._hypotheses import local_noise_level
+from sklearn_gpca._jobs import map_jobs
 from sklearn_gpca._magnitude import in_safe_range
 from sklearn_gpca._merge_split import merge_split_search, split_in_two
 from sklearn_gpca._missing import describe_indices
@@ -72,6 +74,7 @@ from sklearn_gpca._observed_subspaces import (
 )
 from sklearn_gpca._outliers import screened_segmentation
 from sklearn_gpca._peel_starts import peel_candidates
+from sklearn_gpca._projective_motion import rescaled_cameras
 from sklearn_gpca._refine_observed import refine_observed, refinement_objective
 from sklearn_gpca._reseed_motions import reseed_empty_motions
 from sklearn_gpca._segment_selection import (
@@ -179,30 +182,38 @@ def _consistency_scores(
     *,
     common,
     judged=None,
+    n_jobs=None,
     **consistency_kwargs,
 ):
     """:func:`model_consistency` of every segmentation on the ``common`` tracks.
 
     ``cameras[k]`` starts the perspective fit of ``segmentations[k]`` (None:
-    from scratch); equal partitions are judged once, also across calls that
-    pass the same dict ``judged``. Returns an array of shape
+    from scratch); equal partitions are judged once (with the cameras of the
+    first), also across calls that pass the same dict ``judged``, in up to
+    ``n_jobs`` processes. Returns an array of shape
     ``(len(segmentations), 2)``: the inconsistency and the fit.
     """
     judged = {} if judged is None else judged
-    scores = np.full((len(segmentations), 2), np.nan)
-    for k, labels in enumerate(segmentations):
-        key = (_partition_key(labels[common]), common.tobytes())
+    keys = [
+        (_partition_key(labels[common]), common.tobytes()) for labels in segmentations
+    ]
+    todo = {}
+    for k, key in enumerate(keys):
         if key not in judged:
-            judged[key] = model_consistency(
-                X0[common],
-                mask[common],
-                labels[common],
-                noise,
-                cameras=cameras[k],
-                **consistency_kwargs,
-            )
-        scores[k] = judged[key]
-    return scores
+            todo.setdefault(key, k)
+
+    def judge(k):
+        return model_consistency(
+            X0[common],
+            mask[common],
+            segmentations[k][common],
+            noise,
+            cameras=cameras[k],
+            **consistency_kwargs,
+        )
+
+    judged.update(zip(todo, map_jobs(judge, todo.values(), n_jobs), strict=True))
+    return np.array([judged[key] for key in keys], dtype=float).reshape(-1, 2)
 
 
 def track_fragments(affinity, n_motions, *, random_state):
@@ -467,6 +478,7 @@ def _merge_split(
         "perspective_background": ["boolean"],
         "random_state": ["random_state"],
         "return_info": ["boolean"],
+        "n_jobs": [Integral, None],
     },
     prefer_skip_nested_validation=True,
 )
@@ -487,6 +499,7 @@ def segment_motions(
     perspective_background=True,
     random_state=None,
     return_info=False,
+    n_jobs=None,
 ):
     """Segment tracks with missing entries into rigid motions.
 
@@ -686,6 +699,13 @@ def segment_motions(
         about 2.8 times the time. False: the subspace candidates only.
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
+    n_jobs : int or None, default=None
+        Processes that refine the candidates and judge them (joblib's loky
+        backend): the refinements and the perspective fits are independent,
+        about three quarters of the time. None means 1 unless in a
+        :func:`joblib.parallel_config` context, -1 every core. The labels do
+        not depend on it (each refinement draws from its own copy of the
+        random state).
     return_info : bool, default=False
         Also return a Bunch with the candidates, their refined labels,
         coding lengths, ambiguous fractions (and, with
@@ -756,6 +776,7 @@ def segment_motions(
         perspective_background=perspective_background,
         random_state=random_state,
         return_info=return_info,
+        n_jobs=n_jobs,
     )
     if outlier_threshold is not None or (screen_outliers and n_motions > 1):
         # outliers set aside before the candidates (sklearn_gpca._outliers)
@@ -792,16 +813,20 @@ def _segment_tracks(
     perspective_background,
     random_state,
     return_info,
+    n_jobs=None,
     extra_candidates=(),
     candidates_only=False,
 ):
     """:func:`segment_motions` of checked tracks (in a safe range), unscreened.
 
-    ``extra_candidates`` are ``(name, labels)`` pairs of refined candidates
-    judged beside this call's (e.g. those drawn from more tracks, restricted
-    to these), as they are. ``candidates_only`` returns
-    ``Bunch(candidates=names, refined=labels)`` once the candidates are
-    refined, before any is judged.
+    ``extra_candidates`` are ``(name, labels, cameras)`` triples of refined
+    candidates judged beside this call's (e.g. those drawn from more tracks,
+    restricted to these), as they are; ``cameras`` (in the units of ``X``, or
+    None) starts the perspective fit that judges them. ``candidates_only``
+    returns ``Bunch(candidates=names, refined=labels, cameras=cameras)`` once
+    the candidates are refined, before any is judged (each candidate's
+    background cameras in the units of ``X``, None without a perspective
+    background).
     """
     random_state = check_random_state(random_state)
     n_samples = X.shape[0]
@@ -879,7 +904,7 @@ def _segment_tracks(
         random_state=random_state,
     )
 
-    def refine_once(start, perspective):
+    def refine_once(start, perspective, rng=None):
         # outliers of a previous refinement start in the largest motion (the
         # background), which the perspective camera models
         background = int(np.argmax(np.bincount(start[start >= 0], minlength=n_motions)))
@@ -889,13 +914,19 @@ def _segment_tracks(
             np.where(start >= 0, start, background),
             n_motions,
             perspective_cluster=background if perspective else None,
-            **refine_kwargs,
+            **(refine_kwargs if rng is None else refine_kwargs | {"random_state": rng}),
         )
         return labels, n_iter, models[background] if perspective else None
 
     def refine(start, perspective=False):
-        """Refine ``start``; re-seed the motions that empties, refine again."""
-        labels, n_iter, cameras = refine_once(start, perspective)
+        """Refine ``start``; re-seed the motions that empties, refine again.
+
+        Each refinement draws from its own copy of ``random_state`` (only to
+        re-seed a motion left with too few tracks), so that the refinements
+        of the candidates are independent and may run in parallel.
+        """
+        rng = copy.deepcopy(random_state)
+        labels, n_iter, cameras = refine_once(start, perspective, rng)
         if n_motions == 1:
             return labels, n_iter, cameras
         reseeded = reseed_empty_motions(
@@ -908,16 +939,15 @@ def _segment_tracks(
             min_tracks=subspace_dim + 1,
             min_size=MIN_FRAGMENT_SIZE,
             per_fragment=TRACKS_PER_FRAGMENT,
-            random_state=random_state,
+            random_state=rng,
         )
         if reseeded is not None:
-            labels, rounds, cameras = refine_once(reseeded, perspective)
+            labels, rounds, cameras = refine_once(reseeded, perspective, rng)
             n_iter += rounds
         return labels, n_iter, cameras
 
     refined, n_iters, cameras = [], [], []
-    for start in initial:
-        labels, n_iter, _ = refine(start)
+    for labels, n_iter, _ in map_jobs(refine, initial, n_jobs):
         refined.append(labels)
         n_iters.append(n_iter)
         cameras.append(None)
@@ -927,13 +957,24 @@ def _segment_tracks(
         # its refined labels and from its start (the affine refinement may
         # have cut the background by depth); equal starts (up to the names of
         # the labels) are refined once
-        done = {}
+        starts = {}
+        for k in range(len(refined)):
+            for start in (refined[k], initial[k]):
+                starts.setdefault(_partition_key(start), start)
+        done = dict(
+            zip(
+                starts,
+                map_jobs(
+                    lambda start: refine(start, perspective=True),
+                    starts.values(),
+                    n_jobs,
+                ),
+                strict=True,
+            )
+        )
         for k in range(len(refined)):
             for start, suffix in ((refined[k], ""), (initial[k], ", from its start")):
-                key = _partition_key(start)
-                if key not in done:
-                    done[key] = refine(start, perspective=True)
-                labels, n_iter, fitted = done[key]
+                labels, n_iter, fitted = done[_partition_key(start)]
                 names.append(f"{names[k]} + perspective background{suffix}")
                 initial.append(start)
                 refined.append(labels)
@@ -942,13 +983,20 @@ def _segment_tracks(
                 # the affine candidate's background camera starts from them
                 cameras[k] = fitted if cameras[k] is None else cameras[k]
     if candidates_only:
-        return Bunch(candidates=names, refined=refined)
-    for name, labels in extra_candidates:
+        # cameras in the units of X: this call's tracks were divided by scale
+        return Bunch(
+            candidates=names,
+            refined=refined,
+            cameras=[
+                None if c is None else rescaled_cameras(c, scale) for c in cameras
+            ],
+        )
+    for name, labels, fitted in extra_candidates:
         names.append(name)
         initial.append(labels)
         refined.append(labels)
         n_iters.append(0)
-        cameras.append(None)
+        cameras.append(None if fitted is None else rescaled_cameras(fitted, 1 / scale))
     # candidates are compared on the tracks none of them calls an outlier
     common = np.logical_and.reduce([labels >= 0 for labels in refined])
     lengths = np.array(
@@ -981,6 +1029,7 @@ def _segment_tracks(
             cameras,
             noise,
             common=common,
+            n_jobs=n_jobs,
             subspace_dim=subspace_dim,
             perspective_background=perspective_background,
         )

@@ -1,0 +1,88 @@
+"""segment_motions in parallel processes, and the cameras its pooled candidates carry."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+from sklearn_gpca import MotionSegmentation, segment_motions
+from sklearn_gpca._projective_motion import rescaled_cameras
+from sklearn_gpca._segment import _segment_tracks
+from sklearn_gpca.datasets import make_tracks
+
+SEGMENT_DEFAULTS = dict(
+    init="all",
+    selection="consistency",
+    merge_split=False,
+    subspace_dim=4,
+    smoothing=3.0,
+    n_neighbors=10,
+    per_cluster=True,
+    max_iter=30,
+    perspective_background=True,
+    return_info=False,
+)
+
+
+@pytest.fixture(scope="module")
+def lab_scene():
+    # with outlier tracks the screening sets some aside, so the candidates
+    # drawn from every track are judged too (the pooled path)
+    X, y = make_tracks(
+        scene="lab",
+        n_frames=20,
+        n_tracks=150,
+        missing=0.4,
+        outlier_fraction=0.05,
+        random_state=0,
+    )[:2]
+    return X, y
+
+
+def test_labels_do_not_depend_on_n_jobs(lab_scene):
+    X, _ = lab_scene
+    one, info = segment_motions(X, 2, random_state=0, return_info=True)
+    assert info.outliers.any()  # the pooled candidates are judged
+    two, info_two = segment_motions(X, 2, random_state=0, return_info=True, n_jobs=2)
+    np.testing.assert_array_equal(one, two)
+    assert info.candidates == info_two.candidates
+    for a, b in zip(info.refined, info_two.refined, strict=True):
+        np.testing.assert_array_equal(a, b)
+    assert_allclose(info.residuals, info_two.residuals)
+
+
+def test_estimator_passes_n_jobs(lab_scene):
+    X, _ = lab_scene
+    expected = segment_motions(X, 2, random_state=0)
+    model = MotionSegmentation(2, random_state=0, n_jobs=2).fit(X)
+    np.testing.assert_array_equal(model.labels_, expected)
+
+
+@pytest.mark.parametrize("n_jobs", [1.5, "two"])
+def test_bad_n_jobs_is_refused(lab_scene, n_jobs):
+    X, _ = lab_scene
+    with pytest.raises(ValueError, match="'n_jobs' parameter"):
+        segment_motions(X, 2, n_jobs=n_jobs)
+
+
+def test_pooled_candidates_carry_cameras_in_the_units_of_the_tracks(lab_scene):
+    X, _ = lab_scene
+    X = X[:120]
+    runs = [
+        _segment_tracks(
+            X * factor,
+            2,
+            random_state=0,
+            candidates_only=True,
+            **SEGMENT_DEFAULTS,
+        )
+        for factor in (1.0, 8.0)
+    ]
+    # the segmentation is scale-free: same candidates, and each candidate's
+    # background cameras are those of the coordinates times 8
+    assert runs[0].candidates == runs[1].candidates
+    with_cameras = [c is not None for c in runs[0].cameras]
+    assert all(with_cameras)
+    for a, b in zip(runs[0].cameras, runs[1].cameras, strict=True):
+        assert_allclose(rescaled_cameras(a, 8.0), b, rtol=1e-6, atol=1e-9)
