@@ -206,12 +206,15 @@ def _estimator(args, shape):
             args.n_motions,
             outlier_threshold=args.outlier_threshold,
             random_state=args.seed,
+            n_jobs=args.jobs,
         )
     return PerspectiveClustering(args.n_motions, random_state=args.seed)
 
 
 def _check_method_options(args):
     """Refuse options that the chosen ``--method`` does not use."""
+    if args.jobs is not None and args.method != "tracks":
+        raise UsageError("--jobs needs --method tracks")
     if args.method == "pipeline":
         if args.outlier_threshold is not None:
             raise UsageError("--outlier-threshold needs --method tracks")
@@ -368,6 +371,17 @@ class _Parser(argparse.ArgumentParser):
         self.exit(2, f"{self.prog}: error: {message} (see --help)\n")
 
 
+def _n_jobs(value):
+    """A joblib ``n_jobs``: a non-zero integer (-1: every core)."""
+    try:
+        n = int(value)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer, got {value!r}") from None
+    if n == 0:
+        raise argparse.ArgumentTypeError("must not be 0 (-1 runs on every core)")
+    return n
+
+
 def _int_at_least(least):
     def parse(value):
         try:
@@ -488,6 +502,15 @@ def build_parser(prog=None):
         metavar="P",
         help="with --method tracks: label -1 the tracks that fit no motion, at "
         "false-alarm probability P per track (e.g. 0.001)",
+    )
+    segment.add_argument(
+        "--jobs",
+        type=_n_jobs,
+        default=None,
+        metavar="J",
+        help="with --method tracks: processes that refine and judge the "
+        "candidate segmentations (-1: every core); the labels do not depend "
+        "on it",
     )
     segment.add_argument(
         "--output", metavar="LABELS", help="write one label per line to this file"

@@ -37,7 +37,10 @@ Choices, measured on ``make_tracks`` draws with the true labels
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import copy
+
 import numpy as np
+from joblib import effective_n_jobs
 from scipy import stats
 
 from sklearn_gpca._observed_subspaces import (
@@ -314,20 +317,7 @@ def screened_segmentation(
     kept = ~outliers
     extra = {}
     if pooled and outliers.any() and n_motions > 1:
-        everything = segment(
-            X, n_motions, init=init, return_info=False, candidates_only=True, **kwargs
-        )
-        # their background cameras start the fits that judge them, as those
-        # of the kept tracks' own candidates do (not a fit from scratch)
-        extra["extra_candidates"] = [
-            (f"{name}, from every track", labels[kept], cameras)
-            for name, labels, cameras in zip(
-                everything.candidates,
-                everything.refined,
-                everything.cameras,
-                strict=True,
-            )
-        ]
+        extra = _pooled_candidates(segment, X, kept, n_motions, init=init, **kwargs)
     result = segment(
         X[kept],
         n_motions,
@@ -348,3 +338,46 @@ def screened_segmentation(
         info.outliers = outliers
         return labels, info
     return labels
+
+
+def _pooled_candidates(segment, X, kept, n_motions, *, init, **kwargs):
+    """Keywords of the call on the kept tracks that judges every track's candidates too.
+
+    The candidates of every track and those of the kept tracks are drawn and
+    refined (``segment(..., candidates_only=True)``), in two processes when
+    ``kwargs["n_jobs"]`` allows (each then with half the jobs), and the
+    former, restricted to the kept tracks, join the latter's judgement as
+    ``extra_candidates``, with their background cameras (which start the
+    perspective fits that judge them, as they do the kept tracks' own).
+    Every track's candidates draw from a copy of a ``RandomState`` instance,
+    so that the labels do not depend on the jobs.
+    """
+    from sklearn_gpca._jobs import map_jobs
+    from sklearn_gpca._projective_motion import rescaled_cameras
+
+    n_jobs = effective_n_jobs(kwargs.get("n_jobs"))
+    inner = dict(kwargs, return_info=False, n_jobs=max(1, n_jobs // 2))
+    random_state = kwargs.get("random_state")
+    if isinstance(random_state, np.random.RandomState):
+        random_state = copy.deepcopy(random_state)
+    calls = [
+        (X, init, dict(inner, random_state=random_state)),
+        (X[kept], init if isinstance(init, str) else init[kept], inner),
+    ]
+
+    def refined_candidates(call):
+        tracks, start, keywords = call
+        return segment(tracks, n_motions, init=start, candidates_only=True, **keywords)
+
+    everything, own = map_jobs(refined_candidates, calls, min(n_jobs, 2))
+    extra = [
+        (
+            f"{name}, from every track",
+            labels[kept],
+            None if cameras is None else rescaled_cameras(cameras, everything.scale),
+        )
+        for name, labels, cameras in zip(
+            everything.candidates, everything.refined, everything.cameras, strict=True
+        )
+    ]
+    return {"extra_candidates": extra, "candidates": own}

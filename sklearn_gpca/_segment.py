@@ -433,7 +433,7 @@ def _merge_split(
             perspective_background=perspective_background,
         )
         # the consistency rule does not read the coding lengths
-        return select_segmentation(
+        chosen = select_segmentation(
             np.zeros(len(segmentations)),
             np.zeros(len(segmentations)),
             selection="consistency",
@@ -443,6 +443,7 @@ def _merge_split(
             misfit_cost=MISFIT_COST,
             n_tracks=int(np.count_nonzero(common)),
         )
+        return chosen
 
     return merge_split_search(
         labels,
@@ -700,12 +701,15 @@ def segment_motions(
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
     n_jobs : int or None, default=None
-        Processes that refine the candidates and judge them (joblib's loky
-        backend): the refinements and the perspective fits are independent,
-        about three quarters of the time. None means 1 unless in a
-        :func:`joblib.parallel_config` context, -1 every core. The labels do
-        not depend on it (each refinement draws from its own copy of the
-        random state).
+        Processes that draw, refine and judge the candidates (joblib's loky
+        backend): when the screening sets tracks aside, every track's
+        candidates and the kept tracks' own are drawn and refined in two
+        processes (each with half the jobs); the refinements of the
+        candidates and their judgements are independent too. None means 1
+        unless in a :func:`joblib.parallel_config` context, -1 every core.
+        The labels do not depend on it (each refinement draws from its own
+        copy of the random state); ``benchmarks/results/segment_speed.md``
+        gives the wall times.
     return_info : bool, default=False
         Also return a Bunch with the candidates, their refined labels,
         coding lengths, ambiguous fractions (and, with
@@ -798,13 +802,73 @@ def segment_motions(
     return result
 
 
-def _segment_tracks(
+class _Refiner:
+    """The candidates' refinement on one set of tracks.
+
+    Its state is data only (picklable), so that refinements run in other
+    processes (:func:`sklearn_gpca._jobs.map_jobs`).
+    """
+
+    def __init__(self, X0, mask, n_motions, affinity, noise, refine_kwargs):
+        self.X0, self.mask, self.n_motions = X0, mask, n_motions
+        self.affinity, self.noise = affinity, noise
+        self.refine_kwargs = refine_kwargs
+
+    def once(self, start, perspective, rng=None):
+        """One refinement of ``start``: labels, rounds, background cameras."""
+        n_motions = self.n_motions
+        # outliers of a previous refinement start in the largest motion (the
+        # background), which the perspective camera models
+        background = int(np.argmax(np.bincount(start[start >= 0], minlength=n_motions)))
+        kwargs = self.refine_kwargs
+        labels, models, _, n_iter, _ = refine_observed(
+            self.X0,
+            self.mask,
+            np.where(start >= 0, start, background),
+            n_motions,
+            perspective_cluster=background if perspective else None,
+            **(kwargs if rng is None else kwargs | {"random_state": rng}),
+        )
+        return labels, n_iter, models[background] if perspective else None
+
+    def __call__(self, start, perspective=False):
+        """Refine ``start``; re-seed the motions that empties, refine again.
+
+        Each refinement draws from its own copy of the random state (only to
+        re-seed a motion left with too few tracks), so that the refinements
+        of the candidates are independent and may run in parallel.
+        """
+        rng = copy.deepcopy(self.refine_kwargs["random_state"])
+        labels, n_iter, cameras = self.once(start, perspective, rng)
+        if self.n_motions == 1:
+            return labels, n_iter, cameras
+        reseeded = reseed_empty_motions(
+            self.X0,
+            self.mask,
+            labels,
+            self.n_motions,
+            self.affinity,
+            self.noise,
+            min_tracks=self.refine_kwargs["subspace_dim"] + 1,
+            min_size=MIN_FRAGMENT_SIZE,
+            per_fragment=TRACKS_PER_FRAGMENT,
+            random_state=rng,
+        )
+        if reseeded is not None:
+            labels, rounds, cameras = self.once(reseeded, perspective, rng)
+            n_iter += rounds
+        return labels, n_iter, cameras
+
+    def with_perspective(self, start):
+        """``self(start, perspective=True)``."""
+        return self(start, perspective=True)
+
+
+def _refined_candidates(
     X,
     n_motions,
     *,
     init,
-    selection,
-    merge_split,
     subspace_dim,
     smoothing,
     n_neighbors,
@@ -812,34 +876,24 @@ def _segment_tracks(
     max_iter,
     perspective_background,
     random_state,
-    return_info,
-    n_jobs=None,
-    extra_candidates=(),
-    candidates_only=False,
+    n_jobs,
 ):
-    """:func:`segment_motions` of checked tracks (in a safe range), unscreened.
+    """The candidate segmentations of :func:`_segment_tracks`, refined.
 
-    ``extra_candidates`` are ``(name, labels, cameras)`` triples of refined
-    candidates judged beside this call's (e.g. those drawn from more tracks,
-    restricted to these), as they are; ``cameras`` (in the units of ``X``, or
-    None) starts the perspective fit that judges them. ``candidates_only``
-    returns ``Bunch(candidates=names, refined=labels, cameras=cameras)`` once
-    the candidates are refined, before any is judged (each candidate's
-    background cameras in the units of ``X``, None without a perspective
-    background).
+    ``random_state`` is a RandomState instance, ``n_motions > 1`` and there
+    are more tracks than motions. Returns a Bunch (picklable) with ``X0`` and
+    ``mask`` (the tracks divided by ``scale``), ``scale``, ``noise``,
+    ``affinity``, ``refiner`` (the :class:`_Refiner` of these tracks, which
+    holds ``random_state``), ``candidates`` (names), ``initial`` and
+    ``refined`` (labels), ``n_iters`` and ``cameras`` (each candidate's
+    background cameras for the tracks divided by ``scale``, None without a
+    perspective background).
     """
-    random_state = check_random_state(random_state)
     n_samples = X.shape[0]
     X0, mask = observed_entries(X)
     scale = float(np.sqrt(np.mean(X0[mask] ** 2)))
     scale = scale if scale > 0 else 1.0
     X0 = X0 / scale
-    if n_samples <= n_motions or n_motions == 1:
-        labels = np.arange(n_samples, dtype=np.intp) % n_motions
-        if return_info:
-            return labels, Bunch(candidates=[], chosen=-1, n_iters=[], scale=scale)
-        return labels
-
     neighbors, noise, affinity, weights = track_graph(
         X0, mask, n_neighbors, random_state=random_state
     )
@@ -894,60 +948,24 @@ def _segment_tracks(
         names.append("given")
         initial.append(labels.astype(np.intp))
 
-    refine_kwargs = dict(
-        neighbors=neighbors[:, :n_local],
-        neighbor_weights=weights,
-        smoothing=smoothing,
-        subspace_dim=subspace_dim,
-        per_cluster=per_cluster,
-        max_iter=max_iter,
-        random_state=random_state,
+    refiner = _Refiner(
+        X0,
+        mask,
+        n_motions,
+        affinity,
+        noise,
+        dict(
+            neighbors=neighbors[:, :n_local],
+            neighbor_weights=weights,
+            smoothing=smoothing,
+            subspace_dim=subspace_dim,
+            per_cluster=per_cluster,
+            max_iter=max_iter,
+            random_state=random_state,
+        ),
     )
-
-    def refine_once(start, perspective, rng=None):
-        # outliers of a previous refinement start in the largest motion (the
-        # background), which the perspective camera models
-        background = int(np.argmax(np.bincount(start[start >= 0], minlength=n_motions)))
-        labels, models, _, n_iter, _ = refine_observed(
-            X0,
-            mask,
-            np.where(start >= 0, start, background),
-            n_motions,
-            perspective_cluster=background if perspective else None,
-            **(refine_kwargs if rng is None else refine_kwargs | {"random_state": rng}),
-        )
-        return labels, n_iter, models[background] if perspective else None
-
-    def refine(start, perspective=False):
-        """Refine ``start``; re-seed the motions that empties, refine again.
-
-        Each refinement draws from its own copy of ``random_state`` (only to
-        re-seed a motion left with too few tracks), so that the refinements
-        of the candidates are independent and may run in parallel.
-        """
-        rng = copy.deepcopy(random_state)
-        labels, n_iter, cameras = refine_once(start, perspective, rng)
-        if n_motions == 1:
-            return labels, n_iter, cameras
-        reseeded = reseed_empty_motions(
-            X0,
-            mask,
-            labels,
-            n_motions,
-            affinity,
-            noise,
-            min_tracks=subspace_dim + 1,
-            min_size=MIN_FRAGMENT_SIZE,
-            per_fragment=TRACKS_PER_FRAGMENT,
-            random_state=rng,
-        )
-        if reseeded is not None:
-            labels, rounds, cameras = refine_once(reseeded, perspective, rng)
-            n_iter += rounds
-        return labels, n_iter, cameras
-
     refined, n_iters, cameras = [], [], []
-    for labels, n_iter, _ in map_jobs(refine, initial, n_jobs):
+    for labels, n_iter, _ in map_jobs(refiner, initial, n_jobs):
         refined.append(labels)
         n_iters.append(n_iter)
         cameras.append(None)
@@ -964,11 +982,7 @@ def _segment_tracks(
         done = dict(
             zip(
                 starts,
-                map_jobs(
-                    lambda start: refine(start, perspective=True),
-                    starts.values(),
-                    n_jobs,
-                ),
+                map_jobs(refiner.with_perspective, starts.values(), n_jobs),
                 strict=True,
             )
         )
@@ -982,15 +996,84 @@ def _segment_tracks(
                 cameras.append(fitted)
                 # the affine candidate's background camera starts from them
                 cameras[k] = fitted if cameras[k] is None else cameras[k]
-    if candidates_only:
-        # cameras in the units of X: this call's tracks were divided by scale
-        return Bunch(
-            candidates=names,
-            refined=refined,
-            cameras=[
-                None if c is None else rescaled_cameras(c, scale) for c in cameras
-            ],
+    return Bunch(
+        X0=X0,
+        mask=mask,
+        scale=scale,
+        noise=noise,
+        affinity=affinity,
+        refiner=refiner,
+        candidates=names,
+        initial=initial,
+        refined=refined,
+        n_iters=n_iters,
+        cameras=cameras,
+    )
+
+
+def _segment_tracks(
+    X,
+    n_motions,
+    *,
+    init,
+    selection,
+    merge_split,
+    subspace_dim,
+    smoothing,
+    n_neighbors,
+    per_cluster,
+    max_iter,
+    perspective_background,
+    random_state,
+    return_info,
+    n_jobs=None,
+    extra_candidates=(),
+    candidates_only=False,
+    candidates=None,
+):
+    """:func:`segment_motions` of checked tracks (in a safe range), unscreened.
+
+    ``extra_candidates`` are ``(name, labels, cameras)`` triples of refined
+    candidates judged beside this call's (e.g. those drawn from more tracks,
+    restricted to these), as they are; ``cameras`` (in the units of ``X``, or
+    None) starts the perspective fit that judges them. ``candidates_only``
+    returns the refined candidates before any is judged
+    (:func:`_refined_candidates`' Bunch); ``candidates`` takes such a Bunch,
+    of the same ``X`` and keywords, and only judges them (the refinements may
+    so run in another process).
+    """
+    if candidates is None:
+        random_state = check_random_state(random_state)
+        n_samples = X.shape[0]
+        if n_samples <= n_motions or n_motions == 1:
+            X0, mask = observed_entries(X)
+            scale = float(np.sqrt(np.mean(X0[mask] ** 2)))
+            scale = scale if scale > 0 else 1.0
+            labels = np.arange(n_samples, dtype=np.intp) % n_motions
+            if return_info:
+                return labels, Bunch(candidates=[], chosen=-1, n_iters=[], scale=scale)
+            return labels
+        candidates = _refined_candidates(
+            X,
+            n_motions,
+            init=init,
+            subspace_dim=subspace_dim,
+            smoothing=smoothing,
+            n_neighbors=n_neighbors,
+            per_cluster=per_cluster,
+            max_iter=max_iter,
+            perspective_background=perspective_background,
+            random_state=random_state,
+            n_jobs=n_jobs,
         )
+        if candidates_only:
+            return candidates
+    X0, mask, scale = candidates.X0, candidates.mask, candidates.scale
+    noise, affinity, refiner = candidates.noise, candidates.affinity, candidates.refiner
+    refine_kwargs = refiner.refine_kwargs
+    names, initial = list(candidates.candidates), list(candidates.initial)
+    refined, n_iters = list(candidates.refined), list(candidates.n_iters)
+    cameras = list(candidates.cameras)
     for name, labels, fitted in extra_candidates:
         names.append(name)
         initial.append(labels)
@@ -1085,7 +1168,7 @@ def _segment_tracks(
             affinity,
             noise,
             refine_kwargs,
-            refine_once=refine_once,
+            refine_once=refiner.once,
             selection=selection,
             perspective_background=perspective_background,
         )

@@ -37,6 +37,7 @@ def tracks_file(tmp_path_factory):
             MotionSegmentation(2, outlier_threshold=0.001, random_state=3),
         ),
         ("perspective", [], PerspectiveClustering(2, random_state=3)),
+        ("tracks", ["--jobs", "2"], MotionSegmentation(2, random_state=3)),
     ],
 )
 def test_method_writes_the_labels_of_its_estimator(
@@ -54,7 +55,7 @@ def test_method_writes_the_labels_of_its_estimator(
     n_outliers = int(np.sum(written == -1))
     sizes = _summary(text)["sizes"]
     assert sizes.endswith(f"(+ {n_outliers} outliers, label -1)") == bool(n_outliers)
-    if options:
+    if "--outlier-threshold" in options:
         assert n_outliers > 0
 
 
@@ -68,6 +69,8 @@ def test_method_writes_the_labels_of_its_estimator(
             ["--method", "perspective", "--outlier-threshold", "0.01"],
             "--outlier-threshold needs --method tracks",
         ),
+        (["--jobs", "2"], "--jobs needs --method tracks"),
+        (["--method", "perspective", "--jobs", "2"], "--jobs needs --method tracks"),
     ],
 )
 def test_options_the_method_does_not_use_are_refused(
@@ -95,3 +98,14 @@ def test_unknown_method_is_a_usage_error(capsys):
         main(["segment", "x.npz", "--n-motions", "2", "--method", "ssc"])
     assert exc.value.code == 2
     assert "--method" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "jobs, message", [("0", "must not be 0"), ("two", "must be an integer")]
+)
+def test_bad_jobs_is_a_usage_error(capsys, jobs, message):
+    argv = ["segment", "x.npz", "--n-motions", "2", "--method", "tracks"]
+    with pytest.raises(SystemExit) as exc:
+        main([*argv, "--jobs", jobs])
+    assert exc.value.code == 2
+    assert f"--jobs: {message}" in capsys.readouterr().err

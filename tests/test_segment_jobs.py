@@ -1,4 +1,4 @@
-"""segment_motions in parallel processes, and the cameras its pooled candidates carry."""
+"""segment_motions in parallel processes; the cameras of its pooled candidates."""
 
 # SPDX-License-Identifier: BSD-3-Clause
 
@@ -7,6 +7,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 from sklearn_gpca import MotionSegmentation, segment_motions
+from sklearn_gpca._outliers import _pooled_candidates
 from sklearn_gpca._projective_motion import rescaled_cameras
 from sklearn_gpca._segment import _segment_tracks
 from sklearn_gpca.datasets import make_tracks
@@ -69,20 +70,21 @@ def test_bad_n_jobs_is_refused(lab_scene, n_jobs):
 def test_pooled_candidates_carry_cameras_in_the_units_of_the_tracks(lab_scene):
     X, _ = lab_scene
     X = X[:120]
+    kept = np.arange(X.shape[0]) % 10 != 0
     runs = [
-        _segment_tracks(
-            X * factor,
-            2,
-            random_state=0,
-            candidates_only=True,
-            **SEGMENT_DEFAULTS,
+        _pooled_candidates(
+            _segment_tracks, X * factor, kept, 2, random_state=0, **SEGMENT_DEFAULTS
         )
         for factor in (1.0, 8.0)
     ]
-    # the segmentation is scale-free: same candidates, and each candidate's
-    # background cameras are those of the coordinates times 8
-    assert runs[0].candidates == runs[1].candidates
-    with_cameras = [c is not None for c in runs[0].cameras]
-    assert all(with_cameras)
-    for a, b in zip(runs[0].cameras, runs[1].cameras, strict=True):
+    # the segmentation is scale-free: the same candidates, each with the
+    # background cameras of its coordinates (times 8 in the second run)
+    first, second = (run["extra_candidates"] for run in runs)
+    assert [name for name, _, _ in first] == [name for name, _, _ in second]
+    for (_, labels, a), (_, labels_8, b) in zip(first, second, strict=True):
+        assert labels.shape == (kept.sum(),)
+        np.testing.assert_array_equal(labels, labels_8)
+        assert a is not None
         assert_allclose(rescaled_cameras(a, 8.0), b, rtol=1e-6, atol=1e-9)
+    # the kept tracks' own refined candidates come along, to be judged
+    assert runs[0]["candidates"].X0.shape[0] == kept.sum()
