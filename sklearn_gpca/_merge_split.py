@@ -11,18 +11,66 @@ fragments route restricted to its tracks (spectral fragments of the motion
 affinity merged into two by subspace linkage,
 :mod:`sklearn_gpca._fragments`). Every move is refined and judged by the
 selection rule of :func:`sklearn_gpca.segment_motions`; the best move is kept
-while the rule prefers it to the current segmentation.
+while the rule prefers it to the current segmentation -- with
+``selection="consistency"``, only when it is also significantly better
+(:func:`significantly_better`: a move's models can fit the tracks a little
+better by chance, and the moves of a round are many).
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
+from scipy import stats
 
 from sklearn_gpca._fragments import (
     absorb_small_fragments,
     merge_fragments,
     over_segment,
 )
+
+#: One-sided level of :func:`significantly_better`, before the Bonferroni
+#: correction over the moves compared in a round (the textbook 5 %; not tuned).
+MOVE_LEVEL = 0.05
+
+
+def significantly_better(current, move, *, misfit_cost, n_compared, level=MOVE_LEVEL):
+    """Vuong's test: do the move's models explain the tracks better than chance?
+
+    The two segmentations are non-nested models of the same tracks. Each
+    track's cost is its term of the consistency rule (``log(1 + rho /
+    noise)`` plus ``misfit_cost`` when another group's model fits it better,
+    :func:`sklearn_gpca._model_consistency.model_consistency`); ``d_i`` is
+    the move's cost of track ``i`` minus the current one, over the tracks
+    tested in both. Vuong's statistic (Econometrica 1989) is ``z = sum d_i /
+    (sqrt(n) sd(d))``, standard normal when the two fit equally well; the
+    move is significantly better when ``z`` is below the lower
+    ``level / n_compared`` quantile (Bonferroni over the moves compared).
+
+    Parameters
+    ----------
+    current, move : ndarray of shape (n_tracks, 2)
+        ``model_consistency(..., per_track=True)``'s per-track terms of the
+        current segmentation and of the move (NaN: not tested).
+    misfit_cost : float
+        Cost of a track nearer another group's model.
+    n_compared : int
+        Moves compared with the current segmentation.
+    level : float, default=MOVE_LEVEL
+
+    Returns
+    -------
+    better : bool
+    """
+    both = np.isfinite(current).all(axis=1) & np.isfinite(move).all(axis=1)
+    costs = [t[both, 0] + misfit_cost * t[both, 1] for t in (current, move)]
+    d = costs[1] - costs[0]
+    if d.size < 2:
+        return False
+    spread = float(np.std(d))
+    if spread == 0.0:
+        return bool(np.sum(d) < 0)
+    z = float(np.sum(d)) / (np.sqrt(d.size) * spread)
+    return z < stats.norm.ppf(level / max(n_compared, 1))
 
 
 def split_in_two(X0, mask, affinity, noise, *, min_size, per_fragment, random_state):

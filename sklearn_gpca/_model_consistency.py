@@ -41,6 +41,7 @@ def model_consistency(
     subspace_dim=4,
     perspective_background=True,
     cameras=None,
+    per_track=False,
 ):
     """Share of tracks nearer another group's model, and the robust fit.
 
@@ -66,6 +67,8 @@ def model_consistency(
         A start for the perspective cameras (e.g. those of a refinement of
         the same tracks): a few alternations from it instead of the
         sequential fit.
+    per_track : bool, default=False
+        Also return what each track adds to both.
 
     Returns
     -------
@@ -78,12 +81,17 @@ def model_consistency(
     residual : float
         Sum over the testable tracks of ``log(1 + rho / noise)``, ``rho``
         their residual per degree of freedom in their own model.
+    tracks : ndarray of shape (n_samples, 2)
+        Only with ``per_track``: each track's ``log(1 + rho / noise)`` and
+        whether another group's model fits it better (1.0 or 0.0); NaN for a
+        track that is not testable.
     """
     groups, index = np.unique(labels, return_inverse=True)
     sizes = np.bincount(index, minlength=groups.size)
     modelled = np.flatnonzero(sizes > subspace_dim)
+    untested = (np.nan, np.nan, np.full((labels.size, 2), np.nan))
     if modelled.size < 2:
-        return np.nan, np.nan
+        return untested if per_track else untested[:2]
     largest = int(np.argmax(sizes))
     per_dof = np.full((labels.size, groups.size), np.inf)
     for g in modelled:
@@ -103,10 +111,16 @@ def model_consistency(
     own = per_dof[np.arange(labels.size), index]
     testable = np.isfinite(own)
     if not testable.any():
-        return np.nan, np.nan
-    nearest = np.argmin(per_dof[testable], axis=1)
-    inconsistency = float(np.mean(nearest != index[testable]))
-    return inconsistency, _robust_fit(own[testable], noise)
+        return untested if per_track else untested[:2]
+    misfit = np.argmin(per_dof[testable], axis=1) != index[testable]
+    inconsistency = float(np.mean(misfit))
+    scores = inconsistency, _robust_fit(own[testable], noise)
+    if not per_track:
+        return scores
+    tracks = np.full((labels.size, 2), np.nan)
+    tracks[testable, 0] = np.log1p(own[testable] / noise)
+    tracks[testable, 1] = misfit
+    return (*scores, tracks)
 
 
 def _per_dof(residuals, dofs):

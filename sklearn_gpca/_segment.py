@@ -63,7 +63,11 @@ from sklearn_gpca._fragments import (
 from sklearn_gpca._hypotheses import local_noise_level
 from sklearn_gpca._jobs import map_jobs
 from sklearn_gpca._magnitude import in_safe_range
-from sklearn_gpca._merge_split import merge_split_search, split_in_two
+from sklearn_gpca._merge_split import (
+    merge_split_search,
+    significantly_better,
+    split_in_two,
+)
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._model_consistency import model_consistency
 from sklearn_gpca._motion_graph import edge_weights, motion_affinity
@@ -183,6 +187,7 @@ def _consistency_scores(
     common,
     judged=None,
     n_jobs=None,
+    return_tracks=False,
     **consistency_kwargs,
 ):
     """:func:`model_consistency` of every segmentation on the ``common`` tracks.
@@ -191,7 +196,9 @@ def _consistency_scores(
     from scratch); equal partitions are judged once (with the cameras of the
     first), also across calls that pass the same dict ``judged``, in up to
     ``n_jobs`` processes. Returns an array of shape
-    ``(len(segmentations), 2)``: the inconsistency and the fit.
+    ``(len(segmentations), 2)``: the inconsistency and the fit; with
+    ``return_tracks``, also the list of each segmentation's per-track terms
+    (``model_consistency(..., per_track=True)``).
     """
     judged = {} if judged is None else judged
     keys = [
@@ -209,11 +216,15 @@ def _consistency_scores(
             segmentations[k][common],
             noise,
             cameras=cameras[k],
+            per_track=True,
             **consistency_kwargs,
         )
 
     judged.update(zip(todo, map_jobs(judge, todo.values(), n_jobs), strict=True))
-    return np.array([judged[key] for key in keys], dtype=float).reshape(-1, 2)
+    scores = np.array([judged[key][:2] for key in keys], dtype=float).reshape(-1, 2)
+    if return_tracks:
+        return scores, [judged[key][2] for key in keys]
+    return scores
 
 
 def track_fragments(affinity, n_motions, *, random_state):
@@ -421,7 +432,7 @@ def _merge_split(
             )
         # judged, as the candidates are, on the tracks none calls an outlier
         common = np.logical_and.reduce([s >= 0 for s in segmentations])
-        scores = _consistency_scores(
+        scores, tracks = _consistency_scores(
             X0,
             mask,
             segmentations,
@@ -429,6 +440,7 @@ def _merge_split(
             noise,
             common=common,
             judged=judged,
+            return_tracks=True,
             subspace_dim=subspace_dim,
             perspective_background=perspective_background,
         )
@@ -443,6 +455,13 @@ def _merge_split(
             misfit_cost=MISFIT_COST,
             n_tracks=int(np.count_nonzero(common)),
         )
+        if chosen and not significantly_better(
+            tracks[0],
+            tracks[chosen],
+            misfit_cost=MISFIT_COST,
+            n_compared=len(segmentations) - 1,
+        ):
+            return 0
         return chosen
 
     return merge_split_search(
@@ -614,7 +633,12 @@ def segment_motions(
         most ``n_motions`` moves). With ``selection="consistency"`` each move
         is refined as the candidates are (with subspaces and, with
         ``perspective_background``, also with its largest motion seen by a
-        perspective camera) and judged by its penalised fit; with the other
+        perspective camera) and judged by its penalised fit, and kept only
+        when Vuong's test on the tracks' terms of that fit finds it
+        significantly better (one-sided 5 %, Bonferroni over the moves of
+        the round: :func:`sklearn_gpca._merge_split.significantly_better`;
+        a move can lower the fit by chance, and a round compares many);
+        with the other
         rules, refined with subspaces and judged by
         ``selection="separability"``'s rule. This repairs the typical error
         of every candidate on tracker output: one motion cut in two while

@@ -186,3 +186,29 @@ def test_perspective_fit_also_starts_from_the_affine_cameras(monkeypatch):
     # an affine camera is a perspective one: no worse than the 4-D subspaces
     # by more than the perspective model's fewer parameters per track allow
     assert rescued[1] <= max(working[1], affine[1]) + 0.05 * y.size
+
+
+@pytest.mark.parametrize("perspective_background", [False, True])
+def test_per_track_terms_add_up_to_the_scores(perspective_background):
+    X, y = subspace_tracks(missing=0.3, seed=0)
+    X0, mask = observed_entries(X)
+    mixed = y.copy()
+    mixed[::7] = (y[::7] + 1) % 3
+    inconsistency, fit, tracks = model_consistency(
+        X0,
+        mask,
+        mixed,
+        1.0,
+        perspective_background=perspective_background,
+        per_track=True,
+    )
+    assert (inconsistency, fit) == model_consistency(
+        X0, mask, mixed, 1.0, perspective_background=perspective_background
+    )
+    tested = np.isfinite(tracks).all(axis=1)
+    assert tested.sum() > 0.9 * y.size
+    assert np.sum(tracks[tested, 0]) == pytest.approx(fit)
+    assert np.mean(tracks[tested, 1]) == pytest.approx(inconsistency)
+    assert set(np.unique(tracks[tested, 1])) <= {0.0, 1.0}
+    # the relabelled tracks are those nearer another group's model
+    assert np.mean(tracks[::7, 1][tested[::7]]) > 0.8

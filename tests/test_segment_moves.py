@@ -10,6 +10,7 @@ from sklearn_gpca._merge_split import (
     cached_split,
     merge_split_moves,
     merge_split_search,
+    significantly_better,
 )
 from sklearn_gpca._segment_selection import select_segmentation
 from sklearn_gpca.datasets import make_motions, make_tracks
@@ -183,3 +184,54 @@ def test_estimator_passes_merge_split():
         3, init="fragments", merge_split=True, random_state=0
     ).fit(X)
     assert np.array_equal(found.labels_, expected)
+
+
+# --- the significance of a move (Vuong's test) -------------------------------
+
+
+def _terms(fit, misfit):
+    return np.column_stack([fit, misfit]).astype(float)
+
+
+def test_a_move_that_fits_every_track_better_is_significant():
+    rng = np.random.default_rng(0)
+    current = _terms(rng.uniform(1.0, 2.0, 300), np.zeros(300))
+    move = current - _terms(rng.uniform(0.05, 0.15, 300), np.zeros(300))
+    assert significantly_better(current, move, misfit_cost=8, n_compared=12)
+    # and not the other way round, nor a move that changes nothing
+    assert not significantly_better(move, current, misfit_cost=8, n_compared=12)
+    assert not significantly_better(current, current, misfit_cost=8, n_compared=1)
+
+
+def test_a_few_tracks_less_misfit_are_not_significant_against_noise():
+    # the move lowers the sum (four fewer misfits, 32) but the tracks' fits
+    # move up and down by more than that: chance, not a better model
+    rng = np.random.default_rng(1)
+    current = _terms(rng.uniform(1.0, 2.0, 300), np.r_[np.ones(10), np.zeros(290)])
+    noise = rng.normal(scale=1.0, size=300)
+    move = _terms(
+        current[:, 0] + noise - noise.mean(), np.r_[np.ones(6), np.zeros(294)]
+    )
+    assert np.sum(move[:, 0] + 8 * move[:, 1]) < np.sum(
+        current[:, 0] + 8 * current[:, 1]
+    )
+    assert not significantly_better(current, move, misfit_cost=8, n_compared=1)
+
+
+def test_more_moves_compared_need_more_evidence():
+    # z = -2.2: significant alone (5 % one-sided), not among ten moves
+    d = np.r_[np.full(50, -1.0), np.full(50, 1.0)]
+    d = d - 2.2 * d.std() / np.sqrt(d.size)
+    current = _terms(np.full(100, 5.0), np.zeros(100))
+    move = _terms(5.0 + d, np.zeros(100))
+    assert significantly_better(current, move, misfit_cost=8, n_compared=1)
+    assert not significantly_better(current, move, misfit_cost=8, n_compared=10)
+
+
+def test_untested_tracks_are_left_out_of_the_test():
+    current = _terms(np.full(50, 2.0), np.zeros(50))
+    move = current - _terms(np.linspace(0.5, 1.5, 50), np.zeros(50))
+    move[:40] = np.nan
+    assert significantly_better(current, move, misfit_cost=8, n_compared=1)
+    move[:49] = np.nan  # one track tested in both: no test
+    assert not significantly_better(current, move, misfit_cost=8, n_compared=1)
