@@ -2,6 +2,8 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import inspect
+
 import numpy as np
 import pytest
 from numpy.testing import assert_allclose
@@ -12,18 +14,14 @@ from sklearn_gpca._projective_motion import rescaled_cameras
 from sklearn_gpca._segment import _segment_tracks
 from sklearn_gpca.datasets import make_tracks
 
-SEGMENT_DEFAULTS = dict(
-    init="all",
-    selection="consistency",
-    merge_split=False,
-    subspace_dim=4,
-    smoothing=3.0,
-    n_neighbors=10,
-    per_cluster=True,
-    max_iter=30,
-    perspective_background=True,
-    return_info=False,
-)
+#: segment_motions' defaults of the keywords of _segment_tracks
+SEGMENT_DEFAULTS = {
+    name: parameter.default
+    for name, parameter in inspect.signature(segment_motions).parameters.items()
+    if name in inspect.signature(_segment_tracks).parameters
+    and parameter.default is not inspect.Parameter.empty
+    and name not in ("random_state", "n_jobs")
+}
 
 
 @pytest.fixture(scope="module")
