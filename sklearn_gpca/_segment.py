@@ -44,6 +44,7 @@ sequence -- and returns one motion label per track. Beyond the paper
 
 import copy
 import warnings
+from functools import partial
 from numbers import Integral, Real
 
 import numpy as np
@@ -826,6 +827,15 @@ def segment_motions(
     return result
 
 
+def _scaled_tracks(X):
+    """Tracks (zero where missing) divided by the RMS of the observed entries,
+    the observed entries, and that RMS (1 when it is 0)."""
+    X0, mask = observed_entries(X)
+    scale = float(np.sqrt(np.mean(X0[mask] ** 2)))
+    scale = scale if scale > 0 else 1.0
+    return X0 / scale, mask, scale
+
+
 class _Refiner:
     """The candidates' refinement on one set of tracks.
 
@@ -864,8 +874,6 @@ class _Refiner:
         """
         rng = copy.deepcopy(self.refine_kwargs["random_state"])
         labels, n_iter, cameras = self.once(start, perspective, rng)
-        if self.n_motions == 1:
-            return labels, n_iter, cameras
         reseeded = reseed_empty_motions(
             self.X0,
             self.mask,
@@ -882,10 +890,6 @@ class _Refiner:
             labels, rounds, cameras = self.once(reseeded, perspective, rng)
             n_iter += rounds
         return labels, n_iter, cameras
-
-    def with_perspective(self, start):
-        """``self(start, perspective=True)``."""
-        return self(start, perspective=True)
 
 
 def _refined_candidates(
@@ -914,20 +918,14 @@ def _refined_candidates(
     perspective background).
     """
     n_samples = X.shape[0]
-    X0, mask = observed_entries(X)
-    scale = float(np.sqrt(np.mean(X0[mask] ** 2)))
-    scale = scale if scale > 0 else 1.0
-    X0 = X0 / scale
+    X0, mask, scale = _scaled_tracks(X)
     neighbors, noise, affinity, weights = track_graph(
         X0, mask, n_neighbors, random_state=random_state
     )
     n_local = weights.shape[1]
 
     names, initial = [], []
-    if n_motions == 1:
-        names.append("one motion")
-        initial.append(np.zeros(n_samples, dtype=np.intp))
-    elif isinstance(init, str):
+    if isinstance(init, str):
         if init in ("auto", "all", "gpca"):
             labels = gpca_candidate(X, X0, mask, n_motions, random_state=random_state)
             if labels is not None:
@@ -1006,7 +1004,7 @@ def _refined_candidates(
         done = dict(
             zip(
                 starts,
-                map_jobs(refiner.with_perspective, starts.values(), n_jobs),
+                map_jobs(partial(refiner, perspective=True), starts.values(), n_jobs),
                 strict=True,
             )
         )
@@ -1070,9 +1068,7 @@ def _segment_tracks(
         random_state = check_random_state(random_state)
         n_samples = X.shape[0]
         if n_samples <= n_motions or n_motions == 1:
-            X0, mask = observed_entries(X)
-            scale = float(np.sqrt(np.mean(X0[mask] ** 2)))
-            scale = scale if scale > 0 else 1.0
+            scale = _scaled_tracks(X)[2]
             labels = np.arange(n_samples, dtype=np.intp) % n_motions
             if return_info:
                 return labels, Bunch(candidates=[], chosen=-1, n_iters=[], scale=scale)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from sklearn_gpca import MotionSegmentation, PerspectiveClustering
-from sklearn_gpca._cli import main
+from sklearn_gpca._cli import _estimator, build_parser, main
 from sklearn_gpca.datasets import make_motions, make_tracks
 
 
@@ -109,3 +109,10 @@ def test_bad_jobs_is_a_usage_error(capsys, jobs, message):
         main([*argv, "--jobs", jobs])
     assert exc.value.code == 2
     assert f"--jobs: {message}" in capsys.readouterr().err
+
+
+def test_jobs_reach_the_estimator():
+    argv = ["segment", "x.npz", "--n-motions", "2", "--method", "tracks"]
+    args = build_parser().parse_args([*argv, "--jobs", "-1"])
+    assert _estimator(args, (150, 24)).n_jobs == -1
+    assert _estimator(build_parser().parse_args(argv), (150, 24)).n_jobs is None
