@@ -89,7 +89,9 @@ def _lmeds(points1, points2, rng):
     best = np.argmin(np.median(d2, axis=0))
     # least-median-of-squares scale with its small-sample correction
     scale = 1.4826 * (1.0 + 5.0 / (n - 8)) * np.sqrt(np.median(d2[:, best]))
-    return F[best : best + 1], max(scale, TINY)
+    # an exact fit (noise-free or degenerate points) measures rounding only
+    rounding = max(64 * np.finfo(np.float64).eps * np.abs(points1).max(), TINY)
+    return F[best : best + 1], max(scale, rounding)
 
 
 def epipolar_residuals(points1, points2, n_models, rng):
@@ -140,6 +142,9 @@ def epipolar_residuals(points1, points2, n_models, rng):
         d = sampson_fundamental(F, points1, points2)[:, 0]
         if sigma is None:
             inliers = d <= cut
+            if np.count_nonzero(inliers) < MIN_SUPPORT:
+                # the refit lost its support (degenerate points): no model
+                break
             sigma = max(np.sqrt(np.mean(d[inliers] ** 2) / _TRUNCATED), TINY)
             affine = affine_deviation(points1[inliers], points2[inliers]) / sigma
         best = np.minimum(best, d)
