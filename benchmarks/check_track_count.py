@@ -1,0 +1,111 @@
+"""segment_motions as a tracker returns more tracks of the same scene.
+
+A tracker run at a finer grid returns more tracks of the same motions. For
+each setting and seed, ``make_tracks(n_tracks=m * base, random_state=seed,
+...)`` for the multiples ``m`` of ``--multiples`` (the draws differ beyond
+their number of tracks: same scene parameters, other random points), outlier
+tracks removed: the misclassification of ``segment_motions(X, n,
+random_state=0)`` (default BLAS threads, one job), of the oracle
+(:func:`sklearn_gpca.metrics.oracle_labels`) and the wall seconds, with the
+ratio of the seconds to those of the first multiple of the same seed, timed
+in the same process (the machine is shared: compare ratios, not seconds).
+
+Usage::
+
+    python benchmarks/check_track_count.py --seeds 0 1 2 3 --multiples 1 2 4 \
+        --out benchmarks/results/track_count.md
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import argparse
+import datetime
+import os
+import time
+import warnings
+
+import numpy as np
+from _tables import markdown_table, write_markdown
+
+from sklearn_gpca import segment_motions
+from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.metrics import misclassification_rate, oracle_labels
+
+#: Settings and their number of tracks at multiple 1 (the scenes' defaults).
+SETTINGS = {
+    "driving, 3 motions, 20 frames": ({"scene": "driving"}, 500),
+    "handheld, 3 motions, 40 frames": (
+        {"scene": "handheld", "n_frames": 40, "missing": 0.5},
+        800,
+    ),
+}
+
+
+def _row(setting, seed, multiple):
+    keywords, base = SETTINGS[setting]
+    X, y = make_tracks(n_tracks=multiple * base, random_state=seed, **keywords)[:2]
+    X, y = X[y >= 0], y[y >= 0]
+    n = np.unique(y).size
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        start = time.perf_counter()
+        labels = segment_motions(X, n, random_state=0)
+        seconds = time.perf_counter() - start
+    oracle = oracle_labels(X, y)
+    return (
+        X.shape[0],
+        misclassification_rate(y, labels),
+        misclassification_rate(y, oracle),
+        seconds,
+    )
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3])
+    parser.add_argument("--multiples", type=int, nargs="+", default=[1, 2, 4])
+    parser.add_argument("--out", default=None, help="also write the page here")
+    args = parser.parse_args(argv)
+    header = ["setting", "seed", "multiple", "tracks", "error %", "oracle %"]
+    header += ["s", "s / s at the first multiple", "tracks ratio"]
+    rows, errors = [], {}
+    print(" | ".join(header), flush=True)
+    for setting in SETTINGS:
+        for seed in args.seeds:
+            first = None
+            for multiple in args.multiples:
+                tracks, error, oracle, seconds = _row(setting, seed, multiple)
+                first = first or (tracks, seconds)
+                errors.setdefault((setting, multiple), []).append((error, oracle))
+                cells = [setting, str(seed), str(multiple), str(tracks)]
+                cells += [f"{100 * error:.2f}", f"{100 * oracle:.2f}"]
+                cells += [f"{seconds:.1f}", f"{seconds / first[1]:.2f}"]
+                cells += [f"{tracks / first[0]:.2f}"]
+                rows.append(cells)
+                print(" | ".join(cells), flush=True)
+    summary = [
+        [setting, str(multiple), *(f"{100 * m:.2f}" for m in np.mean(v, axis=0))]
+        for (setting, multiple), v in errors.items()
+    ]
+    for cells in summary:
+        print(" | ".join(cells))
+    if args.out:
+        stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%d %b %Y %H:%M")
+        threads = os.environ.get("OMP_NUM_THREADS", "the default")
+        command = "python benchmarks/check_track_count.py --seeds "
+        command += " ".join(map(str, args.seeds)) + " --multiples "
+        command += " ".join(map(str, args.multiples)) + f" --out {args.out}"
+        intro = (
+            f"`{command}`, {stamp} UTC, BLAS threads: {threads}, one job. "
+            + " ".join(__doc__.split("\n\n")[1].split())
+        )
+        text = "# segment_motions with more tracks of the same scenes\n\n"
+        text += intro + "\n\n## Mean over the seeds\n\n"
+        means = markdown_table(["setting", "multiple", "error %", "oracle %"], summary)
+        text += "\n".join(means) + "\n\n## Per draw\n\n"
+        text += "\n".join(markdown_table(header, rows)) + "\n"
+        write_markdown(args.out, text)
+
+
+if __name__ == "__main__":
+    main()
