@@ -89,9 +89,7 @@ def _lmeds(points1, points2, rng):
     best = np.argmin(np.median(d2, axis=0))
     # least-median-of-squares scale with its small-sample correction
     scale = 1.4826 * (1.0 + 5.0 / (n - 8)) * np.sqrt(np.median(d2[:, best]))
-    # an exact fit (noise-free or degenerate points) measures rounding only
-    rounding = max(64 * np.finfo(np.float64).eps * np.abs(points1).max(), TINY)
-    return F[best : best + 1], max(scale, rounding)
+    return F[best : best + 1], max(scale, TINY)
 
 
 def epipolar_residuals(points1, points2, n_models, rng):

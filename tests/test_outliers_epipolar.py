@@ -146,8 +146,8 @@ def test_segment_motions_flags_with_the_checked_test_on_a_driving_draw():
 @pytest.mark.parametrize("noise", [0.0, 0.002])
 def test_degenerate_points_give_no_model_not_a_crash(noise):
     # Every track at the same x (a tracker stuck on a vertical edge, or a
-    # column of constants): the refit of the first model explains the pairs
-    # exactly and, without a rounding floor on its scale, kept none of them.
+    # column of constants): the first model explains the pairs exactly, its
+    # scale is TINY, and its refit keeps none of them: the pair has no model.
     X = _forward_scene(120, 6, noise, np.random.RandomState(5))
     X[:, ::2] = 3.0
     p, deviation = epipolar_outlier_pvalues(*observed_entries(X), 2, random_state=0)
