@@ -18,6 +18,12 @@ sequence -- and returns one motion label per track. Beyond the paper
      co-visible tracks), clustered by
      :func:`sklearn_gpca._perspective.perspective_clustering`;
 
+   on dense tracks (more than ``DENSE_FACTOR * MAX_TRACKS_PER_FRAME`` seen per
+   frame), instead, the segmentations of up to ``MAX_SUBSAMPLES`` disjoint
+   random subsamples of ``MAX_TRACKS_PER_FRAME`` tracks per frame, each
+   extended to every track by the nearest subspace
+   (:func:`subsample_candidates`);
+
 2. each candidate refined by smoothed K-subspaces in ``R^{2F}`` on the
    observed entries (:mod:`sklearn_gpca._refine_observed`), which also labels
    the tracks too short to carry evidence from their neighbours; then each
@@ -119,6 +125,17 @@ AMBIGUITY_DIM_DROP = 1
 MAX_MOVES_PER_MOTION = 1
 #: Models whose hypothesis votes make the "votes" candidate.
 VOTE_MODELS = ("fundamental", "homography", "subspace")
+#: Above this mean number of tracks seen per frame, the candidates are drawn
+#: on random subsamples of this density (``subsample_candidates``; chosen on
+#: ``make_tracks`` draws, seeds 0-2 of ``benchmarks/check_track_count.py``).
+MAX_TRACKS_PER_FRAME = 400
+#: ... but only above this multiple of it (a subsample of most tracks would
+#: change little; it also leaves every Hopkins155 sequence, at most 556 tracks,
+#: as it was).
+DENSE_FACTOR = 1.5
+#: Most subsamples segmented (each costs about one segmentation of a scene of
+#: ``MAX_TRACKS_PER_FRAME`` tracks per frame).
+MAX_SUBSAMPLES = 3
 
 
 def _check_tracks(X, n_motions):
@@ -327,6 +344,47 @@ def votes_candidate(X, X0, mask, n_motions, models, *, random_state):
     if known.all():
         return full
     return _nearest_labels(X0, mask, full, known, n_motions)
+
+
+def tracks_per_frame(mask):
+    """Mean number of tracks seen per frame (``mask``: observed entries)."""
+    return float(mask[:, ::2].sum(axis=0).mean())
+
+
+def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state):
+    """Labels of dense tracks from segmentations of random subsamples.
+
+    The routes' neighbourhoods hold a fixed number of tracks (the local
+    samples of the votes, the motion graph, the smoothing), chosen on scenes
+    of a few hundred tracks seen per frame; at two to four times that density
+    they shrink and the candidates fail more often
+    (``benchmarks/results/track_count.md``). When more than ``DENSE_FACTOR *
+    MAX_TRACKS_PER_FRAME`` tracks are seen per frame on average, disjoint
+    uniform subsamples of ``MAX_TRACKS_PER_FRAME`` tracks per frame (as many
+    as fit, at most ``MAX_SUBSAMPLES``: one subsample's segmentation fails
+    now and then, the selection keeps the best) are each segmented by
+    ``segment`` (the whole pipeline: candidates, refinement, selection), and
+    each segmentation's labels go to the other tracks by the nearest subspace
+    on their observed entries. Returns a list of label arrays, empty below
+    that density.
+    """
+    per_frame = tracks_per_frame(mask)
+    if per_frame <= DENSE_FACTOR * MAX_TRACKS_PER_FRAME:
+        return []
+    size = round(X.shape[0] * MAX_TRACKS_PER_FRAME / per_frame)
+    n_subsamples = min(MAX_SUBSAMPLES, X.shape[0] // size)
+    order = random_state.permutation(X.shape[0])
+    candidates = []
+    for k in range(n_subsamples):
+        rows = np.zeros(X.shape[0], dtype=bool)
+        rows[order[k * size : (k + 1) * size]] = True
+        full = np.zeros(X.shape[0], dtype=np.intp)
+        with warnings.catch_warnings():
+            # e.g. a motion the subsample leaves empty: the candidate is judged
+            warnings.simplefilter("ignore", UserWarning)
+            full[rows] = segment(X[rows], n_motions, random_state=random_state)
+        candidates.append(_nearest_labels(X0, mask, full, rows, n_motions))
+    return candidates
 
 
 def track_graph(X0, mask, n_neighbors, *, random_state):
@@ -550,6 +608,15 @@ def segment_motions(
         route that finds the small objects in front of a perspective
         background (``make_tracks`` driving scenes); see
         ``benchmarks/results/segment_*.md`` for every combination.
+        With ``"auto"`` or ``"all"``, dense tracks (more than 600 seen per
+        frame on average) are segmented instead by subsamples: up to 3
+        disjoint random subsamples of 400 tracks per frame, each segmented
+        by these routes, extended to every track by the nearest subspace on
+        its observed entries and then refined and judged on every track as
+        the routes' candidates are. The routes' neighbourhoods hold a fixed
+        number of tracks, and at two to four times the density they were
+        chosen at they failed more often
+        (``benchmarks/results/track_count.md``).
     selection : {"consistency", "separability", "fitted_separability", \
             "coding_length"}, default="consistency"
         How the refined candidate is kept. ``"consistency"``: each candidate's
@@ -704,7 +771,8 @@ def segment_motions(
         and the candidates drawn without them are sometimes worse. This
         choice was made on cached candidates of ``make_tracks`` seeds 0-3,
         20-23 and 40-43; it costs up to about twice the time where tracks are
-        set aside. ``"kept"``: the kept tracks' own candidates only (the rule
+        set aside. Not for dense tracks (see ``init``), whose subsamples
+        already give candidates of other tracks. ``"kept"``: the kept tracks' own candidates only (the rule
         before). False: every track takes part.
     perspective_background : bool, default=True
         Refine every refined candidate, and every candidate's start, once
@@ -817,7 +885,10 @@ def segment_motions(
                 SCREEN_THRESHOLD if outlier_threshold is None else outlier_threshold
             ),
             assign=outlier_threshold is None,
-            pooled=screen_outliers != "kept",
+            # dense tracks' subsamples differ already: drawn again from every
+            # track they would double the time
+            pooled=screen_outliers != "kept"
+            and tracks_per_frame(~np.isnan(X)) <= DENSE_FACTOR * MAX_TRACKS_PER_FRAME,
             **kwargs,
         )
     else:
@@ -905,6 +976,7 @@ def _refined_candidates(
     perspective_background,
     random_state,
     n_jobs,
+    segment=None,
 ):
     """The candidate segmentations of :func:`_segment_tracks`, refined.
 
@@ -925,7 +997,15 @@ def _refined_candidates(
     n_local = weights.shape[1]
 
     names, initial = [], []
-    if isinstance(init, str):
+    dense = []
+    if isinstance(init, str) and init in ("auto", "all") and segment is not None:
+        dense = subsample_candidates(
+            X, X0, mask, n_motions, segment, random_state=random_state
+        )
+    if dense:
+        names.extend(f"subsample {k}" for k in range(len(dense)))
+        initial.extend(dense)
+    elif isinstance(init, str):
         if init in ("auto", "all", "gpca"):
             labels = gpca_candidate(X, X0, mask, n_motions, random_state=random_state)
             if labels is not None:
@@ -1085,6 +1165,20 @@ def _segment_tracks(
             perspective_background=perspective_background,
             random_state=random_state,
             n_jobs=n_jobs,
+            segment=partial(
+                _segment_tracks,
+                init=init,
+                selection=selection,
+                merge_split=False,
+                subspace_dim=subspace_dim,
+                smoothing=smoothing,
+                n_neighbors=n_neighbors,
+                per_cluster=per_cluster,
+                max_iter=max_iter,
+                perspective_background=perspective_background,
+                return_info=False,
+                n_jobs=n_jobs,
+            ),
         )
         if candidates_only:
             return candidates
