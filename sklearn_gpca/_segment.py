@@ -772,8 +772,9 @@ def segment_motions(
         choice was made on cached candidates of ``make_tracks`` seeds 0-3,
         20-23 and 40-43; it costs up to about twice the time where tracks are
         set aside. Not for dense tracks (see ``init``), whose subsamples
-        already give candidates of other tracks. ``"kept"``: the kept tracks' own candidates only (the rule
-        before). False: every track takes part.
+        already give candidates of other tracks. ``"kept"``: the kept
+        tracks' own candidates only (the rule before). False: every track
+        takes part.
     perspective_background : bool, default=True
         Refine every refined candidate, and every candidate's start, once
         more with its largest motion
@@ -1153,32 +1154,30 @@ def _segment_tracks(
             if return_info:
                 return labels, Bunch(candidates=[], chosen=-1, n_iters=[], scale=scale)
             return labels
-        candidates = _refined_candidates(
-            X,
-            n_motions,
-            init=init,
+        settings = dict(
             subspace_dim=subspace_dim,
             smoothing=smoothing,
             n_neighbors=n_neighbors,
             per_cluster=per_cluster,
             max_iter=max_iter,
             perspective_background=perspective_background,
-            random_state=random_state,
             n_jobs=n_jobs,
+        )
+        candidates = _refined_candidates(
+            X,
+            n_motions,
+            init=init,
+            random_state=random_state,
+            # the segmentation of a dense scene's subsamples
             segment=partial(
                 _segment_tracks,
                 init=init,
                 selection=selection,
                 merge_split=False,
-                subspace_dim=subspace_dim,
-                smoothing=smoothing,
-                n_neighbors=n_neighbors,
-                per_cluster=per_cluster,
-                max_iter=max_iter,
-                perspective_background=perspective_background,
                 return_info=False,
-                n_jobs=n_jobs,
+                **settings,
             ),
+            **settings,
         )
         if candidates_only:
             return candidates
