@@ -19,8 +19,8 @@ sequence -- and returns one motion label per track. Beyond the paper
      :func:`sklearn_gpca._perspective.perspective_clustering`;
 
    on dense tracks (more than ``DENSE_FACTOR * MAX_TRACKS_PER_FRAME`` seen per
-   frame), instead, the segmentations of up to ``MAX_SUBSAMPLES`` disjoint
-   random subsamples of ``MAX_TRACKS_PER_FRAME`` tracks per frame, each
+   frame), instead, the segmentations of ``MAX_SUBSAMPLES`` random
+   subsamples of ``MAX_TRACKS_PER_FRAME`` tracks per frame, each
    extended to every track by the nearest subspace
    (:func:`subsample_candidates`);
 
@@ -133,7 +133,7 @@ MAX_TRACKS_PER_FRAME = 400
 #: change little; it also leaves every Hopkins155 sequence, at most 556 tracks,
 #: as it was).
 DENSE_FACTOR = 1.5
-#: Most subsamples segmented (each costs about one segmentation of a scene of
+#: Subsamples segmented (each costs about one segmentation of a scene of
 #: ``MAX_TRACKS_PER_FRAME`` tracks per frame).
 MAX_SUBSAMPLES = 3
 
@@ -359,9 +359,9 @@ def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state):
     of a few hundred tracks seen per frame; at two to four times that density
     they shrink and the candidates fail more often
     (``benchmarks/results/track_count.md``). When more than ``DENSE_FACTOR *
-    MAX_TRACKS_PER_FRAME`` tracks are seen per frame on average, disjoint
-    uniform subsamples of ``MAX_TRACKS_PER_FRAME`` tracks per frame (as many
-    as fit, at most ``MAX_SUBSAMPLES``: one subsample's segmentation fails
+    MAX_TRACKS_PER_FRAME`` tracks are seen per frame on average,
+    ``MAX_SUBSAMPLES`` uniform subsamples of ``MAX_TRACKS_PER_FRAME`` tracks
+    per frame (disjoint while they fit; one subsample's segmentation fails
     now and then, the selection keeps the best) are each segmented by
     ``segment`` (the whole pipeline: candidates, refinement, selection), and
     each segmentation's labels go to the other tracks by the nearest subspace
@@ -372,12 +372,12 @@ def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state):
     if per_frame <= DENSE_FACTOR * MAX_TRACKS_PER_FRAME:
         return []
     size = round(X.shape[0] * MAX_TRACKS_PER_FRAME / per_frame)
-    n_subsamples = min(MAX_SUBSAMPLES, X.shape[0] // size)
     order = random_state.permutation(X.shape[0])
     candidates = []
-    for k in range(n_subsamples):
+    for k in range(MAX_SUBSAMPLES):
+        # consecutive runs of one permutation: disjoint while they fit
         rows = np.zeros(X.shape[0], dtype=bool)
-        rows[order[k * size : (k + 1) * size]] = True
+        rows[order[(k * size + np.arange(size)) % X.shape[0]]] = True
         full = np.zeros(X.shape[0], dtype=np.intp)
         with warnings.catch_warnings():
             # e.g. a motion the subsample leaves empty: the candidate is judged
@@ -609,9 +609,9 @@ def segment_motions(
         background (``make_tracks`` driving scenes); see
         ``benchmarks/results/segment_*.md`` for every combination.
         With ``"auto"`` or ``"all"``, dense tracks (more than 600 seen per
-        frame on average) are segmented instead by subsamples: up to 3
-        disjoint random subsamples of 400 tracks per frame, each segmented
-        by these routes, extended to every track by the nearest subspace on
+        frame on average) are segmented instead by subsamples: 3 random
+        subsamples of 400 tracks per frame (disjoint while they fit), each
+        segmented by these routes, extended to every track by the nearest subspace on
         its observed entries and then refined and judged on every track as
         the routes' candidates are. The routes' neighbourhoods hold a fixed
         number of tracks, and at two to four times the density they were
