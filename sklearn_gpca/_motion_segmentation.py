@@ -36,7 +36,8 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
     n_clusters : int, default=2
         Number of motions.
 
-    init : {"auto", "all", "fragments", "gpca", "votes", "peel"}, default="all"
+    init : {"auto", "all", "fragments", "gpca", "votes", "peel", "subsample"}, \
+            default="all"
         Candidate segmentations (see :func:`segment_motions`).
 
     selection : {"consistency", "separability", "fitted_separability", \
@@ -145,7 +146,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
 
     _parameter_constraints: dict = {
         "n_clusters": [Count(1, None, closed="left")],
-        "init": [StrOptions({"auto", "all", "fragments", "gpca", "votes", "peel"})],
+        "init": [
+            StrOptions(
+                {"auto", "all", "fragments", "gpca", "votes", "peel", "subsample"}
+            )
+        ],
         "selection": [
             StrOptions(
                 {"consistency", "coding_length", "separability", "fitted_separability"}

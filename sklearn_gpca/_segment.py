@@ -18,10 +18,10 @@ sequence -- and returns one motion label per track. Beyond the paper
      co-visible tracks), clustered by
      :func:`sklearn_gpca._perspective.perspective_clustering`;
 
-   on dense tracks (more than ``DENSE_FACTOR * MAX_TRACKS_PER_FRAME`` seen per
-   frame), instead, the segmentations of ``MAX_SUBSAMPLES`` random
-   subsamples of ``MAX_TRACKS_PER_FRAME`` tracks per frame, each
-   extended to every track by the nearest subspace
+   with ``init="subsample"`` on dense tracks (more than ``DENSE_FACTOR *
+   MAX_TRACKS_PER_FRAME`` seen per frame), instead, the segmentations of
+   ``MAX_SUBSAMPLES`` random subsamples of ``MAX_TRACKS_PER_FRAME`` tracks
+   per frame, each extended to every track by the nearest subspace
    (:func:`subsample_candidates`);
 
 2. each candidate refined by smoothed K-subspaces in ``R^{2F}`` on the
@@ -125,9 +125,10 @@ AMBIGUITY_DIM_DROP = 1
 MAX_MOVES_PER_MOTION = 1
 #: Models whose hypothesis votes make the "votes" candidate.
 VOTE_MODELS = ("fundamental", "homography", "subspace")
-#: Above this mean number of tracks seen per frame, the candidates are drawn
-#: on random subsamples of this density (``subsample_candidates``; chosen on
-#: ``make_tracks`` draws, seeds 0-2 of ``benchmarks/check_track_count.py``).
+#: Above this mean number of tracks seen per frame, ``init="subsample"`` draws
+#: the candidates on random subsamples of this density
+#: (``subsample_candidates``; chosen on ``make_tracks`` draws, seeds 0-2 of
+#: ``benchmarks/check_track_count.py``).
 MAX_TRACKS_PER_FRAME = 400
 #: ... but only above this multiple of it (a subsample of most tracks would
 #: change little; it also leaves every Hopkins155 sequence, at most 556 tracks,
@@ -538,7 +539,9 @@ def _merge_split(
         "X": ["array-like"],
         "n_motions": [Count(1, None, closed="left")],
         "init": [
-            StrOptions({"auto", "all", "fragments", "gpca", "votes", "peel"}),
+            StrOptions(
+                {"auto", "all", "fragments", "gpca", "votes", "peel", "subsample"}
+            ),
             "array-like",
         ],
         "selection": [
@@ -592,7 +595,8 @@ def segment_motions(
         power-of-two rescaling when their magnitude is beyond ``2^{±128}``).
     n_motions : int
         Number of motions.
-    init : {"auto", "all", "fragments", "gpca", "votes", "peel"} or \
+    init : {"auto", "all", "fragments", "gpca", "votes", "peel", \
+            "subsample"} or \
             array-like of shape (n_tracks,), default="all"
         Candidate segmentations, each refined, one kept by ``selection``:
         ``"all"`` the gpca, fragments and votes routes (see module doc);
@@ -608,14 +612,24 @@ def segment_motions(
         route that finds the small objects in front of a perspective
         background (``make_tracks`` driving scenes); see
         ``benchmarks/results/segment_*.md`` for every combination.
-        With ``"auto"`` or ``"all"``, dense tracks (more than 600 seen per
-        frame on average) are segmented instead by subsamples: 3 random
+        ``"subsample"`` (opt-in): dense tracks (more than 600 seen per
+        frame on average) are segmented by subsamples: 3 random
         subsamples of 400 tracks per frame (disjoint while they fit), each
-        segmented by these routes, extended to every track by the nearest subspace on
-        its observed entries and then refined and judged on every track as
-        the routes' candidates are. The routes' neighbourhoods hold a fixed
-        number of tracks, and at two to four times the density they were
-        chosen at they failed more often
+        segmented with ``"all"``, extended to every track by the nearest
+        subspace on its observed entries and then refined and judged on
+        every track as the routes' candidates are (and the candidates drawn
+        from every track of ``screen_outliers`` are skipped); sparser tracks
+        are segmented as with ``"all"``. The routes' neighbourhoods hold a
+        fixed number of tracks, and at two to four times the density they
+        were chosen at they fail more often: with 4 times the tracks of
+        ``make_tracks`` driving and hand-held draws it errs 4.8 and 1.7 %
+        where ``"all"`` errs 21.1 and 8.2 % (seeds 0-2; held-out seeds 3-5
+        7.9 and 6.5 % against 11.0 and 5.9 %). Not the default: with 5
+        motions, whose smaller ones keep 20-25 tracks in a subsample, it
+        fails on lab draws of 1,000 tracks (20 frames, seeds 2-3: 24.8 and
+        27.9 % against 0.0 and 1.3 %). See
+        ``benchmarks/results/history_tracker_output.md`` (5 Dec 2026,
+        evening) for the commands.
         (``benchmarks/results/track_count.md``).
     selection : {"consistency", "separability", "fitted_separability", \
             "coding_length"}, default="consistency"
@@ -771,8 +785,8 @@ def segment_motions(
         and the candidates drawn without them are sometimes worse. This
         choice was made on cached candidates of ``make_tracks`` seeds 0-3,
         20-23 and 40-43; it costs up to about twice the time where tracks are
-        set aside. Not for dense tracks (see ``init``), whose subsamples
-        already give candidates of other tracks. ``"kept"``: the kept
+        set aside. Not for dense tracks with ``init="subsample"``, whose
+        subsamples already give candidates of other tracks. ``"kept"``: the kept
         tracks' own candidates only (the rule before). False: every track
         takes part.
     perspective_background : bool, default=True
@@ -886,10 +900,14 @@ def segment_motions(
                 SCREEN_THRESHOLD if outlier_threshold is None else outlier_threshold
             ),
             assign=outlier_threshold is None,
-            # dense tracks' subsamples differ already: drawn again from every
-            # track they would double the time
+            # dense tracks' subsamples (init="subsample") differ already:
+            # drawn again from every track they would double the time
             pooled=screen_outliers != "kept"
-            and tracks_per_frame(~np.isnan(X)) <= DENSE_FACTOR * MAX_TRACKS_PER_FRAME,
+            and not (
+                isinstance(init, str)
+                and init == "subsample"
+                and tracks_per_frame(~np.isnan(X)) > DENSE_FACTOR * MAX_TRACKS_PER_FRAME
+            ),
             **kwargs,
         )
     else:
@@ -999,7 +1017,7 @@ def _refined_candidates(
 
     names, initial = [], []
     dense = []
-    if isinstance(init, str) and init in ("auto", "all") and segment is not None:
+    if isinstance(init, str) and init == "subsample" and segment is not None:
         dense = subsample_candidates(
             X, X0, mask, n_motions, segment, random_state=random_state
         )
@@ -1007,6 +1025,8 @@ def _refined_candidates(
         names.extend(f"subsample {k}" for k in range(len(dense)))
         initial.extend(dense)
     elif isinstance(init, str):
+        # sparse tracks with init="subsample" take every route
+        init = "all" if init == "subsample" else init
         if init in ("auto", "all", "gpca"):
             labels = gpca_candidate(X, X0, mask, n_motions, random_state=random_state)
             if labels is not None:

@@ -1,4 +1,4 @@
-"""Dense tracks: candidates drawn on random subsamples (segment_motions)."""
+"""Dense tracks: candidates drawn on random subsamples (init="subsample")."""
 
 # SPDX-License-Identifier: BSD-3-Clause
 
@@ -58,14 +58,17 @@ def test_sparse_tracks_are_not_subsampled():
 
     rng = np.random.RandomState(0)
     assert subsample_candidates(X, X0, mask, 3, never, random_state=rng) == []
-    _, info = segment_motions(X, 3, random_state=0, return_info=True)
+    _, info = segment_motions(X, 3, init="subsample", random_state=0, return_info=True)
+    # sparse tracks take every route, as with init="all"
+    _, every = segment_motions(X, 3, random_state=0, return_info=True)
+    assert info.candidates == every.candidates
     assert not any(name.startswith("subsample") for name in info.candidates)
 
 
 def test_dense_tracks_are_segmented_by_subsamples(dense_at_80):
     X, y = _draw()
     labels, info = segment_motions(
-        X, 3, screen_outliers=False, random_state=0, return_info=True
+        X, 3, init="subsample", screen_outliers=False, random_state=0, return_info=True
     )
     own = [name for name in info.candidates if "perspective" not in name]
     assert own == ["subsample 0", "subsample 1", "subsample 2"]
@@ -85,8 +88,18 @@ def test_dense_tracks_are_not_drawn_again_from_every_track(dense_at_80):
     # the screening sets tracks aside: sparse tracks would also get the
     # candidates drawn from every track, dense ones only their subsamples'
     X, y = make_tracks(3, scene="lab", n_tracks=300, n_frames=20, random_state=0)
-    labels, info = segment_motions(X, 3, random_state=0, return_info=True)
+    labels, info = segment_motions(
+        X, 3, init="subsample", random_state=0, return_info=True
+    )
     assert info.outliers.any()
     assert not any("from every track" in name for name in info.candidates)
     inliers = y >= 0
     assert misclassification_rate(y[inliers], labels[inliers]) < 0.05
+
+
+def test_the_default_does_not_subsample_dense_tracks(dense_at_80):
+    X, _ = _draw()
+    _, info = segment_motions(
+        X, 3, screen_outliers=False, random_state=0, return_info=True
+    )
+    assert info.candidates[:3] == ["gpca", "fragments", "votes"]
