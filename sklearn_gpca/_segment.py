@@ -352,6 +352,11 @@ def tracks_per_frame(mask):
     return float(mask[:, ::2].sum(axis=0).mean())
 
 
+def dense_tracks(mask):
+    """Whether ``init="subsample"`` segments these tracks by subsamples."""
+    return tracks_per_frame(mask) > DENSE_FACTOR * MAX_TRACKS_PER_FRAME
+
+
 def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state):
     """Labels of dense tracks from segmentations of random subsamples.
 
@@ -369,10 +374,9 @@ def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state):
     on their observed entries. Returns a list of label arrays, empty below
     that density.
     """
-    per_frame = tracks_per_frame(mask)
-    if per_frame <= DENSE_FACTOR * MAX_TRACKS_PER_FRAME:
+    if not dense_tracks(mask):
         return []
-    size = round(X.shape[0] * MAX_TRACKS_PER_FRAME / per_frame)
+    size = round(X.shape[0] * MAX_TRACKS_PER_FRAME / tracks_per_frame(mask))
     order = random_state.permutation(X.shape[0])
     candidates = []
     for k in range(MAX_SUBSAMPLES):
@@ -630,7 +634,6 @@ def segment_motions(
         27.9 % against 0.0 and 1.3 %). See
         ``benchmarks/results/history_tracker_output.md`` (5 Dec 2026,
         evening) for the commands.
-        (``benchmarks/results/track_count.md``).
     selection : {"consistency", "separability", "fitted_separability", \
             "coding_length"}, default="consistency"
         How the refined candidate is kept. ``"consistency"``: each candidate's
@@ -906,7 +909,7 @@ def segment_motions(
             and not (
                 isinstance(init, str)
                 and init == "subsample"
-                and tracks_per_frame(~np.isnan(X)) > DENSE_FACTOR * MAX_TRACKS_PER_FRAME
+                and dense_tracks(~np.isnan(X))
             ),
             **kwargs,
         )
@@ -995,7 +998,7 @@ def _refined_candidates(
     perspective_background,
     random_state,
     n_jobs,
-    segment=None,
+    segment,
 ):
     """The candidate segmentations of :func:`_segment_tracks`, refined.
 
@@ -1006,7 +1009,8 @@ def _refined_candidates(
     holds ``random_state``), ``candidates`` (names), ``initial`` and
     ``refined`` (labels), ``n_iters`` and ``cameras`` (each candidate's
     background cameras for the tracks divided by ``scale``, None without a
-    perspective background).
+    perspective background). ``segment`` segments a subsample of dense
+    tracks with ``init="subsample"`` (:func:`subsample_candidates`).
     """
     n_samples = X.shape[0]
     X0, mask, scale = _scaled_tracks(X)
@@ -1017,7 +1021,7 @@ def _refined_candidates(
 
     names, initial = [], []
     dense = []
-    if isinstance(init, str) and init == "subsample" and segment is not None:
+    if isinstance(init, str) and init == "subsample":
         dense = subsample_candidates(
             X, X0, mask, n_motions, segment, random_state=random_state
         )
@@ -1188,10 +1192,10 @@ def _segment_tracks(
             n_motions,
             init=init,
             random_state=random_state,
-            # the segmentation of a dense scene's subsamples
+            # the segmentation of a dense scene's subsamples (init="subsample")
             segment=partial(
                 _segment_tracks,
-                init=init,
+                init="all",
                 selection=selection,
                 merge_split=False,
                 return_info=False,
