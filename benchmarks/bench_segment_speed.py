@@ -7,8 +7,10 @@ Run from the project root (about 10 minutes for one seed)::
 
 where ``/tmp/previous`` is a checkout of the revision to compare with, e.g.
 ``git worktree add /tmp/previous 942d4af``. For each draw of the seven
-``make_tracks`` settings of ``bench_segment.py`` (outlier tracks removed, as
-there), times ``segment_motions(X, n, random_state=0)``:
+``make_tracks`` settings of ``bench_segment.py`` (or, with ``--dense``, of
+the dense settings below: more tracks of two of them, above the density
+where ``segment_motions`` also segments subsamples; outlier tracks removed,
+as there), times ``segment_motions(X, n, random_state=0)``:
 
 - with ``n_jobs=1`` (the default) and with ``--jobs`` processes, in this
   process, one after the other, and checks that the labels are the same (the
@@ -57,8 +59,20 @@ np.savez(sys.argv[2], labels=labels, seconds=seconds)
 """
 
 
+#: Dense tracks (more than 600 seen per frame on average): 4 and 2 times the
+#: tracks of two ``TRACK_SETTINGS`` (``benchmarks/check_track_count.py``).
+DENSE_SETTINGS = {
+    "driving, 3 motions, 4 times the tracks": {"scene": "driving", "n_tracks": 2000},
+    "handheld, 3 motions, 40 frames, 2 times the tracks": {
+        **TRACK_SETTINGS["handheld, 3 motions, 40 frames"],
+        "n_tracks": 1600,
+    },
+}
+
+
 def _draw(setting, seed):
-    X, y = make_tracks(random_state=seed, **TRACK_SETTINGS[setting])[:2]
+    settings = {**TRACK_SETTINGS, **DENSE_SETTINGS}
+    X, y = make_tracks(random_state=seed, **settings[setting])[:2]
     keep = y >= 0
     return X[keep], y[keep]
 
@@ -92,6 +106,7 @@ def main(argv=None):
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--against", default=None, help="checkout of a revision")
+    parser.add_argument("--dense", action="store_true", help="the dense settings")
     parser.add_argument("--out", default=None, help="also write the page here")
     args = parser.parse_args(argv)
     against = None if args.against is None else Path(args.against).resolve()
@@ -107,7 +122,7 @@ def main(argv=None):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     print(*lines, sep="\n", flush=True)
     serial, parallel, other = [], [], []
-    for setting in TRACK_SETTINGS:
+    for setting in DENSE_SETTINGS if args.dense else TRACK_SETTINGS:
         for seed in args.seeds:
             X, y = _draw(setting, seed)
             n = np.unique(y).size
@@ -139,6 +154,7 @@ def main(argv=None):
         str(s) for s in args.seeds
     )
     command += f" --jobs {args.jobs}" if args.jobs != 2 else ""
+    command += " --dense" if args.dense else ""
     command += f" --against {args.against}" if args.against else ""
     command += f" --out {args.out}" if args.out else ""
     page = (

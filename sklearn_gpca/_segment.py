@@ -18,11 +18,11 @@ sequence -- and returns one motion label per track. Beyond the paper
      co-visible tracks), clustered by
      :func:`sklearn_gpca._perspective.perspective_clustering`;
 
-   with ``init="subsample"`` on dense tracks (more than ``DENSE_FACTOR *
-   MAX_TRACKS_PER_FRAME`` seen per frame), instead, the segmentations of
-   ``MAX_SUBSAMPLES`` random subsamples of ``MAX_TRACKS_PER_FRAME`` tracks
-   per frame, each extended to every track by the nearest subspace
-   (:func:`subsample_candidates`);
+   on dense tracks (more than ``DENSE_FACTOR * MAX_TRACKS_PER_FRAME`` seen
+   per frame), also the segmentations of ``MAX_SUBSAMPLES`` random
+   subsamples of ``MAX_TRACKS_PER_FRAME`` tracks per frame, each extended to
+   every track by the nearest subspace (:func:`subsample_candidates`; these
+   alone with ``init="subsample"``);
 
 2. each candidate refined by smoothed K-subspaces in ``R^{2F}`` on the
    observed entries (:mod:`sklearn_gpca._refine_observed`), which also labels
@@ -93,6 +93,7 @@ from sklearn_gpca._segment_selection import (
     coding_length,
     select_segmentation,
 )
+from sklearn_gpca._threads import one_thread
 from sklearn_gpca._track_neighbors import track_neighbors
 from sklearn_gpca._validation import Count
 
@@ -125,10 +126,9 @@ AMBIGUITY_DIM_DROP = 1
 MAX_MOVES_PER_MOTION = 1
 #: Models whose hypothesis votes make the "votes" candidate.
 VOTE_MODELS = ("fundamental", "homography", "subspace")
-#: Above this mean number of tracks seen per frame, ``init="subsample"`` draws
-#: the candidates on random subsamples of this density
-#: (``subsample_candidates``; chosen on ``make_tracks`` draws, seeds 0-2 of
-#: ``benchmarks/check_track_count.py``).
+#: Above this mean number of tracks seen per frame, candidates are also drawn
+#: on random subsamples of this density (``subsample_candidates``; chosen on
+#: ``make_tracks`` draws, seeds 0-2 of ``benchmarks/check_track_count.py``).
 MAX_TRACKS_PER_FRAME = 400
 #: ... but only above this multiple of it (a subsample of most tracks would
 #: change little; it also leaves every Hopkins155 sequence, at most 556 tracks,
@@ -353,11 +353,11 @@ def tracks_per_frame(mask):
 
 
 def dense_tracks(mask):
-    """Whether ``init="subsample"`` segments these tracks by subsamples."""
+    """Whether these tracks are also segmented by subsamples."""
     return tracks_per_frame(mask) > DENSE_FACTOR * MAX_TRACKS_PER_FRAME
 
 
-def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state):
+def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state, n_jobs=None):
     """Labels of dense tracks from segmentations of random subsamples.
 
     The routes' neighbourhoods hold a fixed number of tracks (the local
@@ -369,27 +369,39 @@ def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state):
     ``MAX_SUBSAMPLES`` uniform subsamples of ``MAX_TRACKS_PER_FRAME`` tracks
     per frame (disjoint while they fit; one subsample's segmentation fails
     now and then, the selection keeps the best) are each segmented by
-    ``segment`` (the whole pipeline: candidates, refinement, selection), and
-    each segmentation's labels go to the other tracks by the nearest subspace
-    on their observed entries. Returns a list of label arrays, empty below
-    that density.
+    ``segment(X_subsample, n_motions, random_state=seed)`` (the whole
+    pipeline: candidates, refinement, selection), and each segmentation's
+    labels go to the other tracks by the nearest subspace on their observed
+    entries. The subsamples are segmented in ``n_jobs`` processes; each
+    with a seed drawn up front and one BLAS and OpenMP thread (as in a
+    worker process), so that the labels do not depend on ``n_jobs``: with
+    the machine's two BLAS threads in this process and one in a worker, the
+    sums differ in their last bits, which flipped a subsample's spectral
+    clustering on a 1,552-track hand-held draw.
+    Returns a list of label arrays, empty below that density.
     """
     if not dense_tracks(mask):
         return []
     size = round(X.shape[0] * MAX_TRACKS_PER_FRAME / tracks_per_frame(mask))
     order = random_state.permutation(X.shape[0])
-    candidates = []
+    seeds = random_state.randint(np.iinfo(np.int32).max, size=MAX_SUBSAMPLES)
+    subsamples = []
     for k in range(MAX_SUBSAMPLES):
         # consecutive runs of one permutation: disjoint while they fit
         rows = np.zeros(X.shape[0], dtype=bool)
         rows[order[(k * size + np.arange(size)) % X.shape[0]]] = True
+        subsamples.append((rows, seeds[k]))
+
+    def segmented(subsample):
+        rows, seed = subsample
         full = np.zeros(X.shape[0], dtype=np.intp)
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), one_thread("blas"), one_thread("openmp"):
             # e.g. a motion the subsample leaves empty: the candidate is judged
             warnings.simplefilter("ignore", UserWarning)
-            full[rows] = segment(X[rows], n_motions, random_state=random_state)
-        candidates.append(_nearest_labels(X0, mask, full, rows, n_motions))
-    return candidates
+            full[rows] = segment(X[rows], n_motions, random_state=seed)
+            return _nearest_labels(X0, mask, full, rows, n_motions)
+
+    return map_jobs(segmented, subsamples, n_jobs)
 
 
 def track_graph(X0, mask, n_neighbors, *, random_state):
@@ -603,37 +615,44 @@ def segment_motions(
             "subsample"} or \
             array-like of shape (n_tracks,), default="all"
         Candidate segmentations, each refined, one kept by ``selection``:
-        ``"all"`` the gpca, fragments and votes routes (see module doc);
-        ``"auto"`` the first two (about a third of the time on Hopkins155:
-        the votes are the slowest route); ``"fragments"``, ``"gpca"`` or
-        ``"votes"`` one route; ``"peel"`` the starts that peel the dominant
-        motion off first (:mod:`sklearn_gpca._peel_starts`: the largest
-        consensus of fragments one subspace fits, at three thresholds, the
-        rest merged into ``n_motions - 1``; not part of ``"all"``: on the
-        ``make_tracks`` draws it did not lower the kept error, see
-        ``benchmarks/results/segment_tracks.md``); an array of labels
-        ``0 .. n_motions - 1`` is refined as it is. The votes are the only
-        route that finds the small objects in front of a perspective
+        ``"all"`` the gpca, fragments and votes routes (see module doc), and
+        on dense tracks (more than 600 seen per frame on average) also the
+        segmentations of 3 random subsamples of 400 tracks per frame
+        (disjoint while they fit), each segmented with ``"all"`` and
+        extended to every track by the nearest subspace on its observed
+        entries, then refined and judged on every track beside the routes'
+        candidates (the candidates drawn from every track of
+        ``screen_outliers`` are skipped there); ``"subsample"`` the
+        subsamples alone on dense tracks (every route on sparser ones);
+        ``"auto"`` the gpca and fragments routes (about a third of the time
+        on Hopkins155: the votes are the slowest route); ``"fragments"``,
+        ``"gpca"`` or ``"votes"`` one route; ``"peel"`` the starts that
+        peel the dominant motion off first (:mod:`sklearn_gpca._peel_starts`:
+        the largest consensus of fragments one subspace fits, at three
+        thresholds, the rest merged into ``n_motions - 1``; not part of
+        ``"all"``: on the ``make_tracks`` draws it did not lower the kept
+        error, see ``benchmarks/results/segment_tracks.md``); an array of
+        labels ``0 .. n_motions - 1`` is refined as it is. The votes are the
+        only route that finds the small objects in front of a perspective
         background (``make_tracks`` driving scenes); see
-        ``benchmarks/results/segment_*.md`` for every combination.
-        ``"subsample"`` (opt-in): dense tracks (more than 600 seen per
-        frame on average) are segmented by subsamples: 3 random
-        subsamples of 400 tracks per frame (disjoint while they fit), each
-        segmented with ``"all"``, extended to every track by the nearest
-        subspace on its observed entries and then refined and judged on
-        every track as the routes' candidates are (and the candidates drawn
-        from every track of ``screen_outliers`` are skipped); sparser tracks
-        are segmented as with ``"all"``. The routes' neighbourhoods hold a
-        fixed number of tracks, and at two to four times the density they
-        were chosen at they fail more often: with 4 times the tracks of
-        ``make_tracks`` driving and hand-held draws it errs 4.8 and 1.7 %
-        where ``"all"`` errs 21.1 and 8.2 % (seeds 0-2; held-out seeds 3-5
-        7.9 and 6.5 % against 11.0 and 5.9 %). Not the default: with 5
-        motions, whose smaller ones keep 20-25 tracks in a subsample, it
-        fails on lab draws of 1,000 tracks (20 frames, seeds 2-3: 24.8 and
-        27.9 % against 0.0 and 1.3 %). See
-        ``benchmarks/results/history_tracker_output.md`` (5 Dec 2026,
-        evening) for the commands.
+        ``benchmarks/results/segment_*.md`` for every combination. The
+        routes' neighbourhoods hold a fixed number of tracks, and at two to
+        four times the density they were chosen at they fail more often;
+        the subsamples alone lose the small motions of 5-motion scenes
+        (20-25 of their tracks in a subsample). With 4 times the tracks of
+        ``make_tracks`` driving and hand-held draws ``"all"`` errs 6.8 and
+        1.7 % (the routes alone 21.1 and 8.2 %, the subsamples alone 4.8
+        and 1.7 %, the oracle 5.7 and 6.5; seeds 0-2, where the constants
+        were chosen; held-out seeds 3-5 7.5 and 6.6 %, the routes alone
+        11.0 and 5.9 %); on lab draws of 1,000 complete tracks with 2-5
+        motions it errs 5.1 % (the routes alone 7.1 %, the subsamples alone
+        9.4 %). On dense tracks it takes about 1.6 times the routes' time
+        alone (``"subsample"`` about the same time as the routes);
+        ``n_jobs=2`` segments the subsamples in parallel and brings it back
+        to the routes' one-job time
+        (``benchmarks/results/segment_speed_dense.md``). Pages and commands:
+        ``benchmarks/results/track_count.md``, ``dense_lab.md`` and
+        ``history_tracker_output.md`` (5 Dec 2026, night).
     selection : {"consistency", "separability", "fitted_separability", \
             "coding_length"}, default="consistency"
         How the refined candidate is kept. ``"consistency"``: each candidate's
@@ -788,8 +807,8 @@ def segment_motions(
         and the candidates drawn without them are sometimes worse. This
         choice was made on cached candidates of ``make_tracks`` seeds 0-3,
         20-23 and 40-43; it costs up to about twice the time where tracks are
-        set aside. Not for dense tracks with ``init="subsample"``, whose
-        subsamples already give candidates of other tracks. ``"kept"``: the kept
+        set aside. Not for dense tracks (``init`` "all" or "subsample"),
+        whose subsamples already give candidates of other tracks. ``"kept"``: the kept
         tracks' own candidates only (the rule before). False: every track
         takes part.
     perspective_background : bool, default=True
@@ -818,9 +837,14 @@ def segment_motions(
         processes (each with half the jobs); the refinements of the
         candidates and their judgements are independent too. None means 1
         unless in a :func:`joblib.parallel_config` context, -1 every core.
-        The labels do not depend on it (each refinement draws from its own
-        copy of the random state); ``benchmarks/results/segment_speed.md``
-        gives the wall times.
+        On dense tracks the three subsamples are segmented in parallel too.
+        With one BLAS thread (``OMP_NUM_THREADS=1``) the labels do not
+        depend on it (each refinement draws from its own copy of the random
+        state); with more, the worker processes run one thread and this
+        process several, their sums differ in the last bits, and a close
+        refinement can move a few tracks (4 of 1,552 on a dense hand-held
+        draw). ``benchmarks/results/segment_speed.md`` and
+        ``segment_speed_dense.md`` give the wall times.
     return_info : bool, default=False
         Also return a Bunch with the candidates, their refined labels,
         coding lengths, ambiguous fractions (and, with
@@ -903,12 +927,12 @@ def segment_motions(
                 SCREEN_THRESHOLD if outlier_threshold is None else outlier_threshold
             ),
             assign=outlier_threshold is None,
-            # dense tracks' subsamples (init="subsample") differ already:
-            # drawn again from every track they would double the time
+            # dense tracks' subsamples differ already: drawn again from
+            # every track they would double the time
             pooled=screen_outliers != "kept"
             and not (
                 isinstance(init, str)
-                and init == "subsample"
+                and init in ("all", "subsample")
                 and dense_tracks(~np.isnan(X))
             ),
             **kwargs,
@@ -1010,7 +1034,7 @@ def _refined_candidates(
     ``refined`` (labels), ``n_iters`` and ``cameras`` (each candidate's
     background cameras for the tracks divided by ``scale``, None without a
     perspective background). ``segment`` segments a subsample of dense
-    tracks with ``init="subsample"`` (:func:`subsample_candidates`).
+    tracks (``init`` "all" or "subsample", :func:`subsample_candidates`).
     """
     n_samples = X.shape[0]
     X0, mask, scale = _scaled_tracks(X)
@@ -1021,16 +1045,16 @@ def _refined_candidates(
 
     names, initial = [], []
     dense = []
-    if isinstance(init, str) and init == "subsample":
+    if isinstance(init, str) and init in ("all", "subsample"):
         dense = subsample_candidates(
-            X, X0, mask, n_motions, segment, random_state=random_state
+            X, X0, mask, n_motions, segment, random_state=random_state, n_jobs=n_jobs
         )
-    if dense:
-        names.extend(f"subsample {k}" for k in range(len(dense)))
-        initial.extend(dense)
-    elif isinstance(init, str):
-        # sparse tracks with init="subsample" take every route
-        init = "all" if init == "subsample" else init
+    names.extend(f"subsample {k}" for k in range(len(dense)))
+    initial.extend(dense)
+    if isinstance(init, str):
+        if init == "subsample":
+            # dense tracks: the subsamples alone; sparse ones: every route
+            init = "none" if dense else "all"
         if init in ("auto", "all", "gpca"):
             labels = gpca_candidate(X, X0, mask, n_motions, random_state=random_state)
             if labels is not None:
@@ -1192,14 +1216,15 @@ def _segment_tracks(
             n_motions,
             init=init,
             random_state=random_state,
-            # the segmentation of a dense scene's subsamples (init="subsample")
+            # the segmentation of a dense scene's subsamples, each in one
+            # process (the subsamples are segmented in n_jobs processes)
             segment=partial(
                 _segment_tracks,
                 init="all",
                 selection=selection,
                 merge_split=False,
                 return_info=False,
-                **settings,
+                **{**settings, "n_jobs": 1},
             ),
             **settings,
         )

@@ -1,4 +1,4 @@
-"""Dense tracks: candidates drawn on random subsamples (init="subsample")."""
+"""Dense tracks: candidates drawn on random subsamples."""
 
 # SPDX-License-Identifier: BSD-3-Clause
 
@@ -97,9 +97,32 @@ def test_dense_tracks_are_not_drawn_again_from_every_track(dense_at_80):
     assert misclassification_rate(y[inliers], labels[inliers]) < 0.05
 
 
-def test_the_default_does_not_subsample_dense_tracks(dense_at_80):
-    X, _ = _draw()
-    _, info = segment_motions(
+def test_the_default_adds_subsamples_to_the_routes(dense_at_80):
+    X, y = _draw()
+    labels, info = segment_motions(
         X, 3, screen_outliers=False, random_state=0, return_info=True
     )
-    assert info.candidates[:3] == ["gpca", "fragments", "votes"]
+    own = [name for name in info.candidates if "perspective" not in name]
+    subsamples = ["subsample 0", "subsample 1", "subsample 2"]
+    assert own == [*subsamples, "gpca", "fragments", "votes"]
+    assert misclassification_rate(y, labels) < 0.03
+
+
+def test_subsample_candidates_do_not_depend_on_n_jobs(dense_at_80):
+    X, _ = _draw()
+    runs = [
+        segment_motions(
+            X,
+            3,
+            init="subsample",
+            screen_outliers=False,
+            random_state=0,
+            return_info=True,
+            n_jobs=n_jobs,
+        )
+        for n_jobs in (1, 2)
+    ]
+    (one, first), (two, second) = runs
+    for start, again in zip(first.initial, second.initial, strict=True):
+        np.testing.assert_array_equal(start, again)
+    np.testing.assert_array_equal(one, two)
