@@ -17,6 +17,8 @@ benchmark::
 # SPDX-License-Identifier: BSD-3-Clause
 
 import csv
+import datetime
+import os
 import sys
 from pathlib import Path
 
@@ -29,6 +31,23 @@ def markdown_table(header, rows):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
     return lines
+
+
+def command_stamp(command):
+    """```command```, the UTC time and the BLAS threads, for a page's intro."""
+    now = datetime.datetime.now(datetime.timezone.utc)
+    threads = os.environ.get("OMP_NUM_THREADS", "the default")
+    return f"`{command}`, {now:%d %b %Y %H:%M} UTC, BLAS threads: {threads}"
+
+
+def page_with_tables(title, intro, sections):
+    """A Markdown page: the title, the intro, then ``(heading, header, rows)``
+    sections, each a table under its heading."""
+    tables = [
+        f"## {heading}\n\n" + "\n".join(markdown_table(header, rows))
+        for heading, header, rows in sections
+    ]
+    return f"# {title}\n\n{intro}\n\n" + "\n\n".join(tables) + "\n"
 
 
 def _split_row(line):

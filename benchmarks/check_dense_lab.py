@@ -22,13 +22,11 @@ Usage::
 # SPDX-License-Identifier: BSD-3-Clause
 
 import argparse
-import datetime
-import os
 import time
 import warnings
 
 import numpy as np
-from _tables import markdown_table, write_markdown
+from _tables import command_stamp, page_with_tables, write_markdown
 
 from sklearn_gpca import segment_motions
 from sklearn_gpca.datasets import make_tracks
@@ -87,22 +85,20 @@ def main(argv=None):
     summary = [[str(len(rows)), f"{error:.2f}", f"{oracle:.2f}", f"{total:.0f}"]]
     print(" | ".join(summary[0]))
     if args.out:
-        stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%d %b %Y %H:%M")
-        threads = os.environ.get("OMP_NUM_THREADS", "the default")
         command = "python benchmarks/check_dense_lab.py --seeds "
         command += " ".join(map(str, args.seeds)) + " --motions "
         command += " ".join(map(str, args.motions)) + " --frames "
         command += " ".join(map(str, args.frames))
         command += f" --tracks {args.tracks} --out {args.out}"
-        intro = (
-            f"`{command}`, {stamp} UTC, BLAS threads: {threads}, one job. "
-            + " ".join(__doc__.split("\n\n")[1].split())
+        intro = f"{command_stamp(command)}, one job. " + " ".join(
+            __doc__.split("\n\n")[1].split()
         )
-        text = "# segment_motions on dense lab scenes\n\n" + intro + "\n\n"
-        text += "## Mean over the draws\n\n"
-        means = markdown_table(["draws", "error %", "oracle %", "total s"], summary)
-        text += "\n".join(means) + "\n\n## Per draw\n\n"
-        text += "\n".join(markdown_table(header, rows)) + "\n"
+        means = ["draws", "error %", "oracle %", "total s"]
+        text = page_with_tables(
+            "segment_motions on dense lab scenes",
+            intro,
+            [("Mean over the draws", means, summary), ("Per draw", header, rows)],
+        )
         write_markdown(args.out, text)
 
 

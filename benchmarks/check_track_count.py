@@ -19,13 +19,11 @@ Usage::
 # SPDX-License-Identifier: BSD-3-Clause
 
 import argparse
-import datetime
-import os
 import time
 import warnings
 
 import numpy as np
-from _tables import markdown_table, write_markdown
+from _tables import command_stamp, page_with_tables, write_markdown
 
 from sklearn_gpca import segment_motions
 from sklearn_gpca.datasets import make_tracks
@@ -90,20 +88,18 @@ def main(argv=None):
     for cells in summary:
         print(" | ".join(cells))
     if args.out:
-        stamp = datetime.datetime.now(datetime.timezone.utc).strftime("%d %b %Y %H:%M")
-        threads = os.environ.get("OMP_NUM_THREADS", "the default")
         command = "python benchmarks/check_track_count.py --seeds "
         command += " ".join(map(str, args.seeds)) + " --multiples "
         command += " ".join(map(str, args.multiples)) + f" --out {args.out}"
-        intro = (
-            f"`{command}`, {stamp} UTC, BLAS threads: {threads}, one job. "
-            + " ".join(__doc__.split("\n\n")[1].split())
+        intro = f"{command_stamp(command)}, one job. " + " ".join(
+            __doc__.split("\n\n")[1].split()
         )
-        text = "# segment_motions with more tracks of the same scenes\n\n"
-        text += intro + "\n\n## Mean over the seeds\n\n"
-        means = markdown_table(["setting", "multiple", "error %", "oracle %"], summary)
-        text += "\n".join(means) + "\n\n## Per draw\n\n"
-        text += "\n".join(markdown_table(header, rows)) + "\n"
+        means = ["setting", "multiple", "error %", "oracle %"]
+        text = page_with_tables(
+            "segment_motions with more tracks of the same scenes",
+            intro,
+            [("Mean over the seeds", means, summary), ("Per draw", header, rows)],
+        )
         write_markdown(args.out, text)
 
 
