@@ -642,9 +642,9 @@ def segment_motions(
         (20-25 of their tracks in a subsample). With 4 times the tracks of
         ``make_tracks`` driving and hand-held draws ``"all"`` errs 6.8 and
         1.7 % (the routes alone 21.1 and 8.2 %, the subsamples alone 4.8
-        and 1.7 %, the oracle 5.7 and 6.5; seeds 0-2, where the constants
-        were chosen; held-out seeds 3-5 7.5 and 6.6 %, the routes alone
-        11.0 and 5.9 %); on lab draws of 1,000 complete tracks with 2-5
+        and 1.7 % at commit 3ab4c75, the oracle 5.7 and 6.5; seeds 0-2,
+        where the constants were chosen; held-out seeds 3-5 7.5 and 6.6 %,
+        the routes alone 11.0 and 5.9 %); on lab draws of 1,000 complete tracks with 2-5
         motions it errs 5.1 % (the routes alone 7.1 %, the subsamples alone
         9.4 %). On dense tracks it takes about 1.6 times the routes' time
         alone (``"subsample"`` about the same time as the routes);
