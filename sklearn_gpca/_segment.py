@@ -357,6 +357,12 @@ def dense_tracks(mask):
     return tracks_per_frame(mask) > DENSE_FACTOR * MAX_TRACKS_PER_FRAME
 
 
+def draws_subsamples(init, mask):
+    """Whether ``init`` draws candidates on subsamples of these tracks
+    (``"all"`` or ``"subsample"``, on dense tracks)."""
+    return isinstance(init, str) and init in ("all", "subsample") and dense_tracks(mask)
+
+
 def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state, n_jobs=None):
     """Labels of dense tracks from segmentations of random subsamples.
 
@@ -635,21 +641,20 @@ def segment_motions(
         labels ``0 .. n_motions - 1`` is refined as it is. The votes are the
         only route that finds the small objects in front of a perspective
         background (``make_tracks`` driving scenes); see
-        ``benchmarks/results/segment_*.md`` for every combination. The
-        routes' neighbourhoods hold a fixed number of tracks, and at two to
-        four times the density they were chosen at they fail more often;
-        the subsamples alone lose the small motions of 5-motion scenes
-        (20-25 of their tracks in a subsample). With 4 times the tracks of
-        ``make_tracks`` driving and hand-held draws ``"all"`` errs 6.8 and
-        1.7 % (the routes alone 21.1 and 8.2 %, the subsamples alone 4.8
-        and 1.7 % at commit 3ab4c75, the oracle 5.7 and 6.5; seeds 0-2,
-        where the constants were chosen; held-out seeds 3-5 7.5 and 6.6 %,
-        the routes alone 11.0 and 5.9 %); on lab draws of 1,000 complete tracks with 2-5
-        motions it errs 5.1 % (the routes alone 7.1 %, the subsamples alone
-        9.4 %). On dense tracks it takes about 1.6 times the routes' time
-        alone (``"subsample"`` about the same time as the routes);
-        ``n_jobs=2`` segments the subsamples in parallel and brings it back
-        to the routes' one-job time
+        ``benchmarks/results/segment_*.md`` for every combination. The routes'
+        neighbourhoods hold a fixed number of tracks, and at two to four times
+        the density they were chosen at they fail more often; the subsamples
+        alone lose the small motions of 5-motion scenes (20-25 of their tracks
+        in a subsample). With 4 times the tracks of ``make_tracks`` driving and
+        hand-held draws ``"all"`` errs 6.8 and 1.7 % (the routes alone 21.1 and
+        8.2 %, the subsamples alone 4.8 and 1.7 % at commit 3ab4c75, the oracle
+        5.7 and 6.5; seeds 0-2, where the constants were chosen; held-out seeds
+        3-5 7.5 and 6.6 %, the routes alone 11.0 and 5.9 %); on lab draws of
+        1,000 complete tracks with 2-5 motions it errs 5.1 % (the routes alone
+        7.1 %, the subsamples alone 9.4 %). On dense tracks it takes about 1.6
+        times the routes' time alone (``"subsample"`` about the same time as the
+        routes); ``n_jobs=2`` segments the subsamples in parallel and brings it
+        back to the routes' one-job time
         (``benchmarks/results/segment_speed_dense.md``). Pages and commands:
         ``benchmarks/results/track_count.md``, ``dense_lab.md`` and
         ``history_tracker_output.md`` (5 Dec 2026, night).
@@ -808,7 +813,8 @@ def segment_motions(
         choice was made on cached candidates of ``make_tracks`` seeds 0-3,
         20-23 and 40-43; it costs up to about twice the time where tracks are
         set aside. Not for dense tracks (``init`` "all" or "subsample"),
-        whose subsamples already give candidates of other tracks. ``"kept"``: the kept
+        whose subsamples already give candidates of other tracks.
+        ``"kept"``: the kept
         tracks' own candidates only (the rule before). False: every track
         takes part.
     perspective_background : bool, default=True
@@ -930,11 +936,7 @@ def segment_motions(
             # dense tracks' subsamples differ already: drawn again from
             # every track they would double the time
             pooled=screen_outliers != "kept"
-            and not (
-                isinstance(init, str)
-                and init in ("all", "subsample")
-                and dense_tracks(~np.isnan(X))
-            ),
+            and not draws_subsamples(init, ~np.isnan(X)),
             **kwargs,
         )
     else:
@@ -1045,7 +1047,7 @@ def _refined_candidates(
 
     names, initial = [], []
     dense = []
-    if isinstance(init, str) and init in ("all", "subsample"):
+    if draws_subsamples(init, mask):
         dense = subsample_candidates(
             X, X0, mask, n_motions, segment, random_state=random_state, n_jobs=n_jobs
         )
