@@ -2,11 +2,29 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+from functools import partial
+
 from joblib import Parallel, delayed, effective_n_jobs
+
+from sklearn_gpca._threads import one_thread
+
+
+def _with_one_thread(function, item):
+    with one_thread("blas"), one_thread("openmp"):
+        return function(item)
 
 
 def map_jobs(function, items, n_jobs):
     """``[function(item) for item in items]``, in up to ``n_jobs`` processes.
+
+    Every call runs with one BLAS and one OpenMP thread, in this process as
+    in a worker (whose threads joblib limits to the cores per job): sums
+    taken by another number of threads differ in their last bits, and a
+    close choice downstream (a refinement, a spectral clustering) then moves
+    a few tracks. With one thread everywhere the results do not depend on
+    ``n_jobs`` nor on the machine's core count; the calls are many small
+    computations that gain nothing from a second thread
+    (``benchmarks/results/segment_speed.md``).
 
     Parameters
     ----------
@@ -26,7 +44,8 @@ def map_jobs(function, items, n_jobs):
         ``function`` is deterministic.
     """
     items = list(items)
+    call = partial(_with_one_thread, function)
     n_jobs = min(effective_n_jobs(n_jobs), len(items))
     if n_jobs <= 1:
-        return [function(item) for item in items]
-    return Parallel(n_jobs=n_jobs)(delayed(function)(item) for item in items)
+        return [call(item) for item in items]
+    return Parallel(n_jobs=n_jobs)(delayed(call)(item) for item in items)

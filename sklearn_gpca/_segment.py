@@ -93,7 +93,6 @@ from sklearn_gpca._segment_selection import (
     coding_length,
     select_segmentation,
 )
-from sklearn_gpca._threads import one_thread
 from sklearn_gpca._track_neighbors import track_neighbors
 from sklearn_gpca._validation import Count
 
@@ -378,13 +377,10 @@ def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state, n_job
     ``segment(X_subsample, n_motions, random_state=seed)`` (the whole
     pipeline: candidates, refinement, selection), and each segmentation's
     labels go to the other tracks by the nearest subspace on their observed
-    entries. The subsamples are segmented in ``n_jobs`` processes; each
-    with a seed drawn up front and one BLAS and OpenMP thread (as in a
-    worker process), so that the labels do not depend on ``n_jobs``: with
-    the machine's two BLAS threads in this process and one in a worker, the
-    sums differ in their last bits, which flipped a subsample's spectral
-    clustering on a 1,552-track hand-held draw.
-    Returns a list of label arrays, empty below that density.
+    entries. The subsamples are segmented in ``n_jobs`` processes
+    (:func:`sklearn_gpca._jobs.map_jobs`: one thread each, wherever it runs),
+    each with a seed drawn up front, so that the labels do not depend on
+    ``n_jobs``. Returns a list of label arrays, empty below that density.
     """
     if not dense_tracks(mask):
         return []
@@ -401,7 +397,7 @@ def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state, n_job
     def segmented(subsample):
         rows, seed = subsample
         full = np.zeros(X.shape[0], dtype=np.intp)
-        with warnings.catch_warnings(), one_thread("blas"), one_thread("openmp"):
+        with warnings.catch_warnings():
             # e.g. a motion the subsample leaves empty: the candidate is judged
             warnings.simplefilter("ignore", UserWarning)
             full[rows] = segment(X[rows], n_motions, random_state=seed)
@@ -844,12 +840,13 @@ def segment_motions(
         candidates and their judgements are independent too. None means 1
         unless in a :func:`joblib.parallel_config` context, -1 every core.
         On dense tracks the three subsamples are segmented in parallel too.
-        With one BLAS thread (``OMP_NUM_THREADS=1``) the labels do not
-        depend on it (each refinement draws from its own copy of the random
-        state); with more, the worker processes run one thread and this
-        process several, their sums differ in the last bits, and a close
-        refinement can move a few tracks (4 of 1,552 on a dense hand-held
-        draw). ``benchmarks/results/segment_speed.md`` and
+        The labels do not depend on it: each refinement draws from its own
+        copy of the random state, and every parallel computation runs with
+        one BLAS thread, in this process as in the workers
+        (:func:`sklearn_gpca._jobs.map_jobs`; with more threads here than in
+        a worker, the sums differed in the last bits and a close refinement
+        moved 4 of 1,552 tracks of a dense hand-held draw).
+        ``benchmarks/results/segment_speed.md`` and
         ``segment_speed_dense.md`` give the wall times.
     return_info : bool, default=False
         Also return a Bunch with the candidates, their refined labels,
