@@ -618,13 +618,14 @@ def segment_motions(
             array-like of shape (n_tracks,), default="all"
         Candidate segmentations, each refined, one kept by ``selection``:
         ``"all"`` the gpca, fragments and votes routes (see module doc), and
-        on dense tracks (more than 600 seen per frame on average) also the
+        on dense tracks (more than 600 seen per frame on average) the
         segmentations of 3 random subsamples of 400 tracks per frame
         (disjoint while they fit), each segmented with ``"all"`` and
         extended to every track by the nearest subspace on its observed
-        entries, then refined and judged on every track beside the routes'
-        candidates (the candidates drawn from every track of
-        ``screen_outliers`` are skipped there); ``"subsample"`` the
+        entries, then refined and judged on every track beside the gpca and
+        fragments routes' candidates (the votes run within each subsample;
+        the candidates drawn from every track of ``screen_outliers`` are
+        skipped there); ``"subsample"`` the
         subsamples alone on dense tracks (every route on sparser ones);
         ``"auto"`` the gpca and fragments routes (about a third of the time
         on Hopkins155: the votes are the slowest route); ``"fragments"``,
@@ -647,13 +648,13 @@ def segment_motions(
         5.7 and 6.5; seeds 0-2, where the constants were chosen; held-out seeds
         3-5 7.5 and 6.6 %, the routes alone 11.0 and 5.9 %); on lab draws of
         1,000 complete tracks with 2-5 motions it errs 5.1 % (the routes alone
-        7.1 %, the subsamples alone 9.4 %). On dense tracks it takes about 1.6
-        times the routes' time alone (``"subsample"`` about the same time as the
-        routes); ``n_jobs=2`` segments the subsamples in parallel and brings it
-        back to the routes' one-job time
-        (``benchmarks/results/segment_speed_dense.md``). Pages and commands:
-        ``benchmarks/results/track_count.md``, ``dense_lab.md`` and
-        ``history_tracker_output.md`` (5 Dec 2026, night).
+        7.1 %, the subsamples alone 9.4 %). On dense tracks it takes about 1.3
+        to 1.4 times the routes' time alone (the votes on every track as well
+        took 1.6 times, for the same errors on these pages); ``n_jobs=2``
+        segments the subsamples in parallel, in less than the routes'
+        one-job time (``benchmarks/results/segment_speed_dense.md``). Pages
+        and commands: ``benchmarks/results/track_count.md``,
+        ``dense_lab.md`` and ``history_tracker_output.md`` (5 Dec 2026).
     selection : {"consistency", "separability", "fitted_separability", \
             "coding_length"}, default="consistency"
         How the refined candidate is kept. ``"consistency"``: each candidate's
@@ -1066,7 +1067,8 @@ def _refined_candidates(
                     X0, mask, affinity, n_motions, noise, random_state=random_state
                 )
             )
-        if init in ("all", "votes"):
+        if init == "votes" or (init == "all" and not dense):
+            # dense tracks: each subsample is segmented with the votes
             labels = votes_candidate(
                 X, X0, mask, n_motions, VOTE_MODELS, random_state=random_state
             )

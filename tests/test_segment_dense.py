@@ -104,8 +104,18 @@ def test_the_default_adds_subsamples_to_the_routes(dense_at_80):
     )
     own = [name for name in info.candidates if "perspective" not in name]
     subsamples = ["subsample 0", "subsample 1", "subsample 2"]
-    assert own == [*subsamples, "gpca", "fragments", "votes"]
+    # the votes run inside each subsample's segmentation, not on every track
+    assert own == [*subsamples, "gpca", "fragments"]
     assert misclassification_rate(y, labels) < 0.03
+
+
+def test_sparse_tracks_keep_the_votes_on_every_track():
+    X, _ = _draw()
+    _, info = segment_motions(
+        X, 3, screen_outliers=False, random_state=0, return_info=True
+    )
+    own = [name for name in info.candidates if "perspective" not in name]
+    assert own == ["gpca", "fragments", "votes"]
 
 
 def test_subsample_candidates_do_not_depend_on_n_jobs(dense_at_80):
