@@ -9,8 +9,9 @@ where ``/tmp/previous`` is a checkout of the revision to compare with, e.g.
 ``git worktree add /tmp/previous 942d4af``. For each draw of the seven
 ``make_tracks`` settings of ``bench_segment.py`` (or, with ``--dense``, of
 the dense settings below: more tracks of two of them, above the density
-where ``segment_motions`` also segments subsamples; outlier tracks removed,
-as there), times ``segment_motions(X, n, random_state=0)``:
+where ``segment_motions`` also segments subsamples; with ``--long``, of the
+200-frame hand-held settings below; outlier tracks removed, as there), times
+``segment_motions(X, n, random_state=0)``:
 
 - with ``n_jobs=1`` (the default) and with ``--jobs`` processes, in this
   process, one after the other, and checks that the labels are the same (the
@@ -69,9 +70,21 @@ DENSE_SETTINGS = {
     },
 }
 
+#: Long sequences: 200 frames of the hand-held scene (half the entries
+#: missing: tracks seen in 100 frames on average), at 400 and 1,000 tracks
+#: seen per frame (the second above the density of ``DENSE_SETTINGS``).
+LONG_SETTINGS = {
+    f"handheld, 3 motions, 200 frames, {n_tracks} tracks": {
+        "scene": "handheld",
+        "n_frames": 200,
+        "n_tracks": n_tracks,
+    }
+    for n_tracks in (800, 2000)
+}
+
 
 def _draw(setting, seed):
-    settings = {**TRACK_SETTINGS, **DENSE_SETTINGS}
+    settings = {**TRACK_SETTINGS, **DENSE_SETTINGS, **LONG_SETTINGS}
     X, y = make_tracks(random_state=seed, **settings[setting])[:2]
     keep = y >= 0
     return X[keep], y[keep]
@@ -106,7 +119,9 @@ def main(argv=None):
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--against", default=None, help="checkout of a revision")
-    parser.add_argument("--dense", action="store_true", help="the dense settings")
+    which = parser.add_mutually_exclusive_group()
+    which.add_argument("--dense", action="store_true", help="the dense settings")
+    which.add_argument("--long", action="store_true", help="the 200-frame settings")
     parser.add_argument("--out", default=None, help="also write the page here")
     args = parser.parse_args(argv)
     against = None if args.against is None else Path(args.against).resolve()
@@ -122,7 +137,10 @@ def main(argv=None):
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     print(*lines, sep="\n", flush=True)
     serial, parallel, other = [], [], []
-    for setting in DENSE_SETTINGS if args.dense else TRACK_SETTINGS:
+    settings = TRACK_SETTINGS
+    settings = DENSE_SETTINGS if args.dense else settings
+    settings = LONG_SETTINGS if args.long else settings
+    for setting in settings:
         for seed in args.seeds:
             X, y = _draw(setting, seed)
             n = np.unique(y).size
@@ -155,6 +173,7 @@ def main(argv=None):
     )
     command += f" --jobs {args.jobs}" if args.jobs != 2 else ""
     command += " --dense" if args.dense else ""
+    command += " --long" if args.long else ""
     command += f" --against {args.against}" if args.against else ""
     command += f" --out {args.out}" if args.out else ""
     page = (
