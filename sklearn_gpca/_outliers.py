@@ -38,6 +38,7 @@ Choices, measured on ``make_tracks`` draws with the true labels
 # SPDX-License-Identifier: BSD-3-Clause
 
 import copy
+import logging
 
 import numpy as np
 from joblib import effective_n_jobs
@@ -47,6 +48,8 @@ from sklearn_gpca._observed_subspaces import (
     fit_observed_subspace,
     subspace_residuals,
 )
+
+_log = logging.getLogger(__name__)
 
 #: Frames per window of the outlier test.
 WINDOW = 16
@@ -315,6 +318,11 @@ def screened_segmentation(
         # too few tracks left to segment: the test is not applied
         outliers[:] = False
     kept = ~outliers
+    _log.info(
+        "outlier screening: %d of %d tracks set aside",
+        np.count_nonzero(outliers),
+        n_samples,
+    )
     extra = {}
     if pooled and outliers.any() and n_motions > 1:
         extra = _pooled_candidates(segment, X, kept, n_motions, init=init, **kwargs)

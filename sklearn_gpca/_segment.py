@@ -49,6 +49,8 @@ sequence -- and returns one motion label per track. Beyond the paper
 # SPDX-License-Identifier: BSD-3-Clause
 
 import copy
+import logging
+import time
 import warnings
 from functools import partial
 from numbers import Integral, Real
@@ -95,6 +97,8 @@ from sklearn_gpca._segment_selection import (
 )
 from sklearn_gpca._track_neighbors import track_neighbors
 from sklearn_gpca._validation import Count
+
+_log = logging.getLogger(__name__)
 
 #: Fragments smaller than this join a neighbouring fragment before merging.
 MIN_FRAGMENT_SIZE = 12
@@ -385,6 +389,12 @@ def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state, n_job
     if not dense_tracks(mask):
         return []
     size = round(X.shape[0] * MAX_TRACKS_PER_FRAME / tracks_per_frame(mask))
+    _log.info(
+        "dense tracks (%.0f seen per frame): %d subsamples of %d tracks",
+        tracks_per_frame(mask),
+        MAX_SUBSAMPLES,
+        size,
+    )
     order = random_state.permutation(X.shape[0])
     seeds = random_state.randint(np.iinfo(np.int32).max, size=MAX_SUBSAMPLES)
     subsamples = []
@@ -892,6 +902,14 @@ def segment_motions(
         used (e.g. identical tracks); the labels are returned as found, as
         :class:`~sklearn.cluster.KMeans` does.
 
+    Notes
+    -----
+    The stages (tracks set aside, candidates drawn, refined and judged, with
+    their times, and the one kept) are logged at level INFO by the loggers
+    under ``"sklearn_gpca"`` (``logging.getLogger("sklearn_gpca")
+    .setLevel(logging.INFO)`` and a handler show them); work done in worker
+    processes is not.
+
     Examples
     --------
     A tracker-like scene (tracks born and lost, 40 % of the entries
@@ -1037,6 +1055,7 @@ def _refined_candidates(
     tracks (``init`` "all" or "subsample", :func:`subsample_candidates`).
     """
     n_samples = X.shape[0]
+    clock = time.perf_counter()
     X0, mask, scale = _scaled_tracks(X)
     neighbors, noise, affinity, weights = track_graph(
         X0, mask, n_neighbors, random_state=random_state
@@ -1100,6 +1119,14 @@ def _refined_candidates(
         names.append("given")
         initial.append(labels.astype(np.intp))
 
+    _log.info(
+        "%d tracks: %d candidates drawn (%s) in %.1f s",
+        n_samples,
+        len(names),
+        ", ".join(names),
+        time.perf_counter() - clock,
+    )
+    clock = time.perf_counter()
     refiner = _Refiner(
         X0,
         mask,
@@ -1148,6 +1175,12 @@ def _refined_candidates(
                 cameras.append(fitted)
                 # the affine candidate's background camera starts from them
                 cameras[k] = fitted if cameras[k] is None else cameras[k]
+    _log.info(
+        "%d tracks: %d refined candidates in %.1f s",
+        n_samples,
+        len(refined),
+        time.perf_counter() - clock,
+    )
     return Bunch(
         X0=X0,
         mask=mask,
@@ -1243,6 +1276,7 @@ def _segment_tracks(
         refined.append(labels)
         n_iters.append(0)
         cameras.append(None if fitted is None else rescaled_cameras(fitted, 1 / scale))
+    clock = time.perf_counter()
     # candidates are compared on the tracks none of them calls an outlier
     common = np.logical_and.reduce([labels >= 0 for labels in refined])
     lengths = np.array(
@@ -1321,6 +1355,14 @@ def _segment_tracks(
             lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
         )
     labels = refined[chosen]
+    _log.info(
+        "%d tracks: %d candidates judged (selection=%r) in %.1f s, kept %r",
+        X0.shape[0],
+        len(refined),
+        selection,
+        time.perf_counter() - clock,
+        names[chosen],
+    )
     n_moves = 0
     if merge_split and n_motions > 1:
         labels, n_moves = _merge_split(

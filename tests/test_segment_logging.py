@@ -1,0 +1,46 @@
+"""segment_motions reports its stages through the logging module."""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import logging
+
+import pytest
+
+from sklearn_gpca import segment_motions
+from sklearn_gpca.datasets import make_tracks
+
+
+@pytest.fixture(scope="module")
+def tracks():
+    X, _ = make_tracks(
+        scene="lab",
+        n_frames=20,
+        n_tracks=150,
+        missing=0.4,
+        outlier_fraction=0.05,
+        random_state=0,
+    )[:2]
+    return X
+
+
+def test_stages_are_logged_at_info_level(tracks, caplog):
+    with caplog.at_level(logging.INFO, logger="sklearn_gpca"):
+        _, info = segment_motions(tracks, 2, random_state=0, return_info=True)
+    messages = [record.getMessage() for record in caplog.records]
+    assert all(record.name.startswith("sklearn_gpca.") for record in caplog.records)
+    set_aside = int(info.outliers.sum())
+    assert f"outlier screening: {set_aside} of 150 tracks set aside" in messages
+    kept = 150 - set_aside
+    drawn = [m for m in messages if m.startswith(f"{kept} tracks: 3 candidates drawn")]
+    assert drawn and "(gpca, fragments, votes)" in drawn[0]
+    refined = f"{kept} tracks: 9 refined candidates in "
+    assert any(m.startswith(refined) for m in messages)
+    judged = [m for m in messages if "candidates judged" in m]
+    assert len(judged) == 1
+    assert judged[0].endswith(f"kept {info.candidates[info.chosen]!r}")
+
+
+def test_nothing_is_logged_at_the_default_level(tracks, caplog):
+    with caplog.at_level(logging.WARNING, logger="sklearn_gpca"):
+        segment_motions(tracks, 2, random_state=0)
+    assert caplog.records == []
