@@ -1,4 +1,4 @@
-"""Shared pytest fixtures: location of the read-only real data."""
+"""Shared pytest fixtures: the read-only real data; a small tracker-like scene."""
 
 # SPDX-License-Identifier: BSD-3-Clause
 
@@ -7,6 +7,8 @@ from pathlib import Path
 
 import pytest
 from hypothesis import settings
+
+from sklearn_gpca.datasets import make_tracks
 
 # Property tests draw the same examples on every run, so that a CI run cannot
 # fail by chance; `pytest --hypothesis-profile=explore` draws new ones (and
@@ -46,3 +48,21 @@ def hopkins155_dir(shared_data_dir):
 def lowrank_dir(shared_data_dir):
     """The low-rank matrix folder holding ``<Name>/<name>.mat``."""
     return _require(shared_data_dir / "lowrank")
+
+
+@pytest.fixture(scope="session")
+def lab_scene():
+    """150 lab tracks of 20 frames, 40 % missing, with outlier tracks.
+
+    The screening sets some aside, so the candidates drawn from every track
+    are judged too (the pooled path of ``segment_motions``).
+    """
+    X, y = make_tracks(
+        scene="lab",
+        n_frames=20,
+        n_tracks=150,
+        missing=0.4,
+        outlier_fraction=0.05,
+        random_state=0,
+    )[:2]
+    return X, y

@@ -12,7 +12,6 @@ from sklearn_gpca import MotionSegmentation, segment_motions
 from sklearn_gpca._outliers import _pooled_candidates
 from sklearn_gpca._projective_motion import rescaled_cameras
 from sklearn_gpca._segment import _segment_tracks
-from sklearn_gpca.datasets import make_tracks
 
 #: segment_motions' defaults of the keywords of _segment_tracks
 SEGMENT_DEFAULTS = {
@@ -22,21 +21,6 @@ SEGMENT_DEFAULTS = {
     and parameter.default is not inspect.Parameter.empty
     and name not in ("random_state", "n_jobs")
 }
-
-
-@pytest.fixture(scope="module")
-def lab_scene():
-    # with outlier tracks the screening sets some aside, so the candidates
-    # drawn from every track are judged too (the pooled path)
-    X, y = make_tracks(
-        scene="lab",
-        n_frames=20,
-        n_tracks=150,
-        missing=0.4,
-        outlier_fraction=0.05,
-        random_state=0,
-    )[:2]
-    return X, y
 
 
 def test_labels_do_not_depend_on_n_jobs(lab_scene):

@@ -4,26 +4,11 @@
 
 import logging
 
-import pytest
-
 from sklearn_gpca import segment_motions
-from sklearn_gpca.datasets import make_tracks
 
 
-@pytest.fixture(scope="module")
-def tracks():
-    X, _ = make_tracks(
-        scene="lab",
-        n_frames=20,
-        n_tracks=150,
-        missing=0.4,
-        outlier_fraction=0.05,
-        random_state=0,
-    )[:2]
-    return X
-
-
-def test_stages_are_logged_at_info_level(tracks, caplog):
+def test_stages_are_logged_at_info_level(lab_scene, caplog):
+    tracks, _ = lab_scene
     with caplog.at_level(logging.INFO, logger="sklearn_gpca"):
         _, info = segment_motions(tracks, 2, random_state=0, return_info=True)
     messages = [record.getMessage() for record in caplog.records]
@@ -40,7 +25,8 @@ def test_stages_are_logged_at_info_level(tracks, caplog):
     assert judged[0].endswith(f"kept {info.candidates[info.chosen]!r}")
 
 
-def test_nothing_is_logged_at_the_default_level(tracks, caplog):
+def test_nothing_is_logged_at_the_default_level(lab_scene, caplog):
+    tracks, _ = lab_scene
     with caplog.at_level(logging.WARNING, logger="sklearn_gpca"):
         segment_motions(tracks, 2, random_state=0)
     assert caplog.records == []
