@@ -2,16 +2,46 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import logging
 from functools import partial
 
 from joblib import Parallel, delayed, effective_n_jobs
 
 from sklearn_gpca._threads import one_thread
 
+#: The library's loggers (``sklearn_gpca._segment`` and the others).
+_LOGGER = logging.getLogger("sklearn_gpca")
+
+
+class _Records(logging.Handler):
+    """Keeps the records it is given, their messages formatted."""
+
+    def __init__(self):
+        super().__init__()
+        self.records = []
+
+    def emit(self, record):
+        record.msg, record.args = record.getMessage(), None
+        record.exc_info = record.exc_text = None
+        self.records.append(record)
+
 
 def _with_one_thread(function, item):
     with one_thread("blas"), one_thread("openmp"):
         return function(item)
+
+
+def _in_worker(function, level, item):
+    """``function(item)`` and the records the library logged at ``level``."""
+    handler = _Records()
+    previous = _LOGGER.level
+    _LOGGER.addHandler(handler)
+    _LOGGER.setLevel(level)
+    try:
+        return _with_one_thread(function, item), handler.records
+    finally:
+        _LOGGER.removeHandler(handler)
+        _LOGGER.setLevel(previous)
 
 
 def map_jobs(function, items, n_jobs):
@@ -24,7 +54,9 @@ def map_jobs(function, items, n_jobs):
     a few tracks. With one thread everywhere the results do not depend on
     ``n_jobs`` nor on the machine's core count; the calls are many small
     computations that gain nothing from a second thread
-    (``benchmarks/results/segment_speed.md``).
+    (``benchmarks/results/segment_speed.md``). What the calls log under the
+    ``sklearn_gpca`` loggers, at the level enabled here, is logged here too,
+    after them, in the order of ``items``.
 
     Parameters
     ----------
@@ -44,8 +76,19 @@ def map_jobs(function, items, n_jobs):
         ``function`` is deterministic.
     """
     items = list(items)
-    call = partial(_with_one_thread, function)
     n_jobs = min(effective_n_jobs(n_jobs), len(items))
     if n_jobs <= 1:
-        return [call(item) for item in items]
-    return Parallel(n_jobs=n_jobs)(delayed(call)(item) for item in items)
+        return [_with_one_thread(function, item) for item in items]
+    level = _LOGGER.getEffectiveLevel()
+    if level > logging.INFO:
+        call = partial(_with_one_thread, function)
+        return Parallel(n_jobs=n_jobs)(delayed(call)(item) for item in items)
+    call = partial(_in_worker, function, level)
+    results = []
+    for result, records in Parallel(n_jobs=n_jobs)(
+        delayed(call)(item) for item in items
+    ):
+        for record in records:
+            logging.getLogger(record.name).handle(record)
+        results.append(result)
+    return results

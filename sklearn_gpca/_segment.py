@@ -907,8 +907,8 @@ def segment_motions(
     The stages (tracks set aside, candidates drawn, refined and judged, with
     their times, and the one kept) are logged at level INFO by the loggers
     under ``"sklearn_gpca"`` (``logging.getLogger("sklearn_gpca")
-    .setLevel(logging.INFO)`` and a handler show them); work done in worker
-    processes is not.
+    .setLevel(logging.INFO)`` and a handler show them); with ``n_jobs``
+    above 1, those of the worker processes as each worker returns.
 
     Examples
     --------

@@ -3,6 +3,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 
 import logging
+import re
 
 from sklearn_gpca import segment_motions
 
@@ -30,3 +31,20 @@ def test_nothing_is_logged_at_the_default_level(lab_scene, caplog):
     with caplog.at_level(logging.WARNING, logger="sklearn_gpca"):
         segment_motions(tracks, 2, random_state=0)
     assert caplog.records == []
+
+
+def _without_times(messages):
+    return [re.sub(r"in \d+\.\d s", "in _ s", message) for message in messages]
+
+
+def test_worker_processes_report_their_stages(lab_scene, caplog):
+    tracks, _ = lab_scene
+    runs = []
+    for n_jobs in (1, 2):
+        caplog.clear()
+        with caplog.at_level(logging.INFO, logger="sklearn_gpca"):
+            segment_motions(tracks, 2, random_state=0, n_jobs=n_jobs)
+        runs.append(_without_times(record.getMessage() for record in caplog.records))
+    # the pooled candidates are drawn in two worker processes with two jobs
+    assert len(runs[0]) == 6
+    assert runs[1] == runs[0]
