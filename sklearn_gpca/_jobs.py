@@ -32,16 +32,19 @@ def _with_one_thread(function, item):
 
 
 def _in_worker(function, level, item):
-    """``function(item)`` and the records the library logged at ``level``."""
+    """``function(item)`` and the records the library logged at ``level``
+    (kept for the caller, not handled in the worker)."""
     handler = _Records()
-    previous = _LOGGER.level
+    level_before, propagate_before = _LOGGER.level, _LOGGER.propagate
     _LOGGER.addHandler(handler)
     _LOGGER.setLevel(level)
+    _LOGGER.propagate = False
     try:
         return _with_one_thread(function, item), handler.records
     finally:
         _LOGGER.removeHandler(handler)
-        _LOGGER.setLevel(previous)
+        _LOGGER.setLevel(level_before)
+        _LOGGER.propagate = propagate_before
 
 
 def map_jobs(function, items, n_jobs):
@@ -79,11 +82,7 @@ def map_jobs(function, items, n_jobs):
     n_jobs = min(effective_n_jobs(n_jobs), len(items))
     if n_jobs <= 1:
         return [_with_one_thread(function, item) for item in items]
-    level = _LOGGER.getEffectiveLevel()
-    if level > logging.INFO:
-        call = partial(_with_one_thread, function)
-        return Parallel(n_jobs=n_jobs)(delayed(call)(item) for item in items)
-    call = partial(_in_worker, function, level)
+    call = partial(_in_worker, function, _LOGGER.getEffectiveLevel())
     results = []
     for result, records in Parallel(n_jobs=n_jobs)(
         delayed(call)(item) for item in items
