@@ -2,7 +2,9 @@
 
 :func:`screened_segmentation` is what ``segment_motions(outlier_threshold=...)``
 runs: the label-free local test of :mod:`sklearn_gpca._local_outliers`, then
-the segmentation of the tracks that pass it. :func:`outlier_pvalues` below
+the segmentation of the tracks that pass it, then the check of
+:mod:`sklearn_gpca._explained_outliers` (a set-aside track that a segmented
+motion's model explains is given that motion). :func:`outlier_pvalues` below
 is the earlier test, against each motion's subspace (it needs labels): it
 serves ``refine_observed(outlier_threshold=...)`` and
 ``benchmarks/bench_outliers.py`` (given the true labels, as a ceiling).
@@ -256,6 +258,10 @@ def screened_segmentation(
     longer pull a motion's subspace or merge two motions. Under strong
     perspective, a flagged track must also fail the two-view test of
     :func:`sklearn_gpca._epipolar_outliers.perspective_checked_pvalues`.
+    Once the kept tracks are segmented, a set-aside track must also fit none
+    of the motions' models
+    (:func:`sklearn_gpca._explained_outliers.motion_model_pvalues`, not with
+    ``assign``): one that fits is given that motion.
 
     Parameters
     ----------
@@ -271,9 +277,10 @@ def screened_segmentation(
     init : str or array-like of shape (n_samples,)
         As for ``segment``; an array is restricted to the kept tracks.
     return_info : bool
-        Also return ``segment``'s Bunch (about the kept tracks), with
-        ``outlier_pvalues`` (every track's p-value) and ``outliers`` (bool
-        mask of the tracks set aside).
+        Also return ``segment``'s Bunch (about the tracks segmented), with
+        ``outlier_pvalues`` (every track's p-value: for a set-aside track the
+        larger of the local test's and the motions' models') and
+        ``outliers`` (bool mask of the tracks labelled ``-1``).
     assign : bool, default=False
         Give each set-aside track the motion whose subspace (fitted to the
         motion's kept tracks on their observed entries) is nearest on the
@@ -336,6 +343,17 @@ def screened_segmentation(
     )
     labels = np.full(n_samples, -1, dtype=np.intp)
     labels[kept] = result[0] if return_info else result
+    if not assign and outliers.any():
+        pvalues, outliers = _explained_by_motions(
+            X0,
+            mask,
+            labels,
+            n_motions,
+            pvalues,
+            outliers,
+            outlier_threshold,
+            perspective=kwargs.get("perspective_background", True),
+        )
     if assign and outliers.any():
         from sklearn_gpca._segment import _nearest_labels
 
@@ -346,6 +364,32 @@ def screened_segmentation(
         info.outliers = outliers
         return labels, info
     return labels
+
+
+def _explained_by_motions(
+    X0, mask, labels, n_motions, pvalues, outliers, threshold, *, perspective
+):
+    """Clear the set-aside tracks that a segmented motion's model explains.
+
+    See :mod:`sklearn_gpca._explained_outliers`. Updates ``labels`` in place
+    (a cleared track gets the motion that explains it best) and returns the
+    p-values (a set-aside track's is the larger of the local test's and the
+    models') and the outliers left.
+    """
+    from sklearn_gpca._explained_outliers import motion_model_pvalues
+
+    model_pvalues, nearest = motion_model_pvalues(
+        X0, mask, labels, n_motions, perspective=perspective
+    )
+    cleared = outliers & (model_pvalues >= threshold)
+    labels[cleared] = nearest[cleared]
+    _log.info(
+        "outlier check: %d of %d set-aside tracks fit a motion's model and keep it",
+        np.count_nonzero(cleared),
+        np.count_nonzero(outliers),
+    )
+    pvalues = np.where(outliers, np.maximum(pvalues, model_pvalues), pvalues)
+    return pvalues, outliers & ~cleared
 
 
 def _pooled_candidates(segment, X, kept, n_motions, *, init, **kwargs):

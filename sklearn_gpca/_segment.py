@@ -796,8 +796,15 @@ def segment_motions(
         perspective (a forward-moving camera) the nearest background tracks
         misfit their neighbours: there a flagged track must also fit no
         motion's epipolar geometry
-        (:mod:`sklearn_gpca._epipolar_outliers`); some are still flagged
-        (``benchmarks/results/outliers.md`` gives precision and recall).
+        (:mod:`sklearn_gpca._epipolar_outliers`). Once the other tracks are
+        segmented, a flagged track that fits one of the motions' models
+        (its 4-D subspace; for the largest motion also its perspective
+        camera), by a chi-square test at the same threshold with the noise
+        measured on the segmented tracks, is given that motion
+        (:mod:`sklearn_gpca._explained_outliers`): a track is labelled
+        ``-1`` only when both tests reject it. Some inliers are still
+        flagged (``benchmarks/results/outliers.md`` gives precision and
+        recall).
     screen_outliers : bool or "kept", default=True
         Without ``outlier_threshold``: set aside the tracks that the same
         test flags at the false-alarm probability ``SCREEN_THRESHOLD``
@@ -889,9 +896,10 @@ def segment_motions(
         merge/split moves), ``n_moves`` (moves kept), ``noise`` (variance
         per coordinate, in the units of the scaled tracks) and ``scale`` (the
         RMS used); with ``outlier_threshold`` or ``screen_outliers``, these
-        describe the tracks that pass the test, and ``outlier_pvalues`` and
-        ``outliers`` (mask of the tracks set aside: the ``-1`` with
-        ``outlier_threshold``) are added.
+        describe the tracks that pass the local test, and ``outlier_pvalues``
+        and ``outliers`` (mask of the tracks set aside: with
+        ``outlier_threshold``, those labelled ``-1``, the set-aside tracks a
+        motion explains cleared) are added.
 
     Warns
     -----

@@ -1,0 +1,121 @@
+"""Set-aside tracks that a fitted motion explains: the local test's false alarms.
+
+The local test of :mod:`sklearn_gpca._local_outliers` flags a track that
+misfits the subspace of its neighbours, before any segmentation. Some inliers
+fail it: the nearest tracks of a perspective background (no neighbour is as
+near the camera as they are), and the edge tracks of a small motion. Once the
+kept tracks are segmented, every motion has a model fitted to many tracks,
+and each set-aside track is tested against those models:
+
+- every motion's 4-D subspace (the affine camera of section 2 of the paper),
+  fitted to its kept tracks on their observed entries;
+- for the largest motion, also a perspective camera per frame
+  (:mod:`sklearn_gpca._projective_motion`, the exact model of a
+  background seen by a moving camera); a track keeps the smaller of its two
+  residuals, both counted with ``2 m - 4`` degrees of freedom for ``m``
+  frames seen.
+
+Under Gaussian noise of variance ``sigma^2`` per coordinate, a track of
+motion ``k`` with residual ``r_k`` on ``dof_k`` degrees of freedom has ``r_k
+/ sigma^2 ~ chi^2(dof_k)``. The tracker's noise is common to the motions:
+``sigma^2`` is the median, over the kept tracks, of their own motion's
+``r / median(chi^2(dof))``. A track's p-value is that of its best motion,
+``max_k P(chi^2(dof_k) >= r_k / sigma^2)``: a track of motion ``k`` is
+rejected by every motion only if it is rejected by ``k``, so no correction
+for the number of motions is needed. A track stays set aside only when this
+test rejects it too: an inlier is then flagged with probability at most the
+threshold, as with the local test alone. A motion of fewer than
+``MIN_MODEL_TRACKS`` kept tracks explains no track (a model fitted to a few
+tracks fits almost anything), nor does a model that leaves a track no degree
+of freedom.
+
+This test alone is not an outlier test: the models of motions that are not
+exactly affine (perspective objects, a wrong segmentation) misfit many inliers
+of their own (flagging the tracks it rejects would flag a quarter of the
+inliers of the driving draws). It only clears the local test's flags. Measured
+on the draws of ``benchmarks/bench_outliers.py``, seeds 10-17
+(``benchmarks/results/outliers.md``).
+"""
+
+# SPDX-License-Identifier: BSD-3-Clause
+
+import numpy as np
+from scipy import stats
+
+from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_residuals
+from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
+from sklearn_gpca._rows import TINY
+
+#: Fewest kept tracks of a motion whose models explain set-aside tracks (as
+#: many as the perspective refinement needs, ``MIN_PROJECTIVE_TRACKS``).
+MIN_MODEL_TRACKS = 12
+#: Dimension of each motion's subspace: an affine camera's.
+MOTION_DIM = 4
+
+
+def _motion_residuals(X0, mask, labels, n_motions, perspective):
+    """Residuals and degrees of freedom of every track to every motion's model.
+
+    Motions with fewer than ``MIN_MODEL_TRACKS`` members get an infinite
+    residual (they explain nothing).
+    """
+    n_samples = X0.shape[0]
+    residuals = np.full((n_samples, n_motions), np.inf)
+    dofs = np.zeros((n_samples, n_motions), dtype=np.intp)
+    sizes = np.bincount(labels[labels >= 0], minlength=n_motions)
+    largest = int(np.argmax(sizes))
+    for k in np.flatnonzero(sizes >= MIN_MODEL_TRACKS):
+        members = labels == k
+        basis, support = fit_observed_subspace(X0[members], mask[members], MOTION_DIM)
+        r, d = subspace_residuals(X0, mask, [basis], [support])
+        residuals[:, k], dofs[:, k] = r[:, 0], d[:, 0]
+        if perspective and k == largest:
+            cameras, supported = fit_projective_motion(X0[members], mask[members])
+            r, d = projective_residuals(X0, mask, cameras, supported)
+            # the same frames counted by both models: the better fit is kept
+            better = (d == dofs[:, k]) & (r < residuals[:, k])
+            residuals[better, k] = r[better]
+    return residuals, dofs
+
+
+def motion_model_pvalues(X0, mask, labels, n_motions, *, perspective=True):
+    """P-value of each track under its best-fitting motion's model.
+
+    Parameters
+    ----------
+    X0 : ndarray of shape (n_samples, 2 * n_frames)
+        Tracks, zero where missing.
+    mask : ndarray of shape (n_samples, 2 * n_frames), dtype=bool
+        Observed entries.
+    labels : ndarray of shape (n_samples,)
+        Motion of each track in ``0 .. n_motions - 1``; ``-1`` for a track
+        that fits no model (the set-aside tracks).
+    n_motions : int
+    perspective : bool, default=True
+        Also model the largest motion with a perspective camera.
+
+    Returns
+    -------
+    pvalues : ndarray of shape (n_samples,)
+        ``max_k P(chi^2(dof_k) >= r_k / sigma^2)`` (see the module doc); 0
+        for a track that no model can test, and for every track when the
+        noise cannot be measured.
+    nearest : ndarray of shape (n_samples,), dtype=intp
+        The motion of that largest p-value.
+    """
+    residuals, dofs = _motion_residuals(X0, mask, labels, n_motions, perspective)
+    kept = np.flatnonzero(labels >= 0)
+    own_r = residuals[kept, labels[kept]]
+    own_d = dofs[kept, labels[kept]]
+    measured = (own_d > 0) & np.isfinite(own_r)
+    n_samples = X0.shape[0]
+    if not measured.any():
+        return np.zeros(n_samples), np.zeros(n_samples, dtype=np.intp)
+    noise = float(np.median(own_r[measured] / stats.chi2.median(own_d[measured])))
+    testable = (dofs > 0) & np.isfinite(residuals)
+    pvalues = np.zeros(residuals.shape)
+    pvalues[testable] = stats.chi2.sf(
+        residuals[testable] / max(noise, TINY), dofs[testable]
+    )
+    nearest = np.argmax(pvalues, axis=1).astype(np.intp)
+    return pvalues[np.arange(n_samples), nearest], nearest

@@ -1,0 +1,112 @@
+"""The check that clears the local outlier test's false alarms."""
+
+import numpy as np
+import pytest
+
+import sklearn_gpca._local_outliers as local_outliers
+from sklearn_gpca import segment_motions
+from sklearn_gpca._explained_outliers import MIN_MODEL_TRACKS, motion_model_pvalues
+from sklearn_gpca._observed_subspaces import observed_entries
+from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.metrics import misclassification_rate
+
+
+def _motions(rng, sizes, n_frames=20, noise=0.01, n_outliers=10):
+    """Tracks on random 4-D subspaces plus noise, and random outlier tracks."""
+    X, y = [], []
+    for k, n in enumerate(sizes):
+        basis = np.linalg.qr(rng.normal(size=(2 * n_frames, 4)))[0]
+        X.append(rng.normal(size=(n, 4)) @ basis.T)
+        y.append(np.full(n, k))
+    X.append(rng.normal(size=(n_outliers, 2 * n_frames)))
+    y.append(np.full(n_outliers, -1))
+    X = np.vstack(X)
+    return X + noise * rng.normal(size=X.shape), np.concatenate(y)
+
+
+@pytest.mark.parametrize("perspective", [False, True])
+def test_inliers_fit_their_motion_and_outliers_none(perspective):
+    rng = np.random.RandomState(0)
+    X, y = _motions(rng, [150, 100, 80])
+    X0, mask = observed_entries(X)
+    pvalues, nearest = motion_model_pvalues(X0, mask, y, 3, perspective=perspective)
+    inliers = y >= 0
+    assert np.all(pvalues[~inliers] < 1e-6)
+    assert np.array_equal(nearest[inliers], y[inliers])
+    # the inliers' p-values are those of their own motion's chi-square test:
+    # few are small (the fit is in sample: if anything, conservative)
+    slack = 3 * np.sqrt(0.05 * 0.95 / inliers.sum())
+    assert np.mean(pvalues[inliers] < 0.05) <= 0.05 + slack
+    assert np.mean(pvalues[inliers] < 0.5) > 0.2
+
+
+@pytest.mark.parametrize("scale", [1e-3, 1e3])
+def test_pvalues_do_not_depend_on_the_units(scale):
+    rng = np.random.RandomState(1)
+    X, y = _motions(rng, [60, 60], n_frames=12)
+    X0, mask = observed_entries(X)
+    Xs0, masks = observed_entries(scale * X)
+    p, nearest = motion_model_pvalues(X0, mask, y, 2, perspective=False)
+    ps, nearests = motion_model_pvalues(Xs0, masks, y, 2, perspective=False)
+    np.testing.assert_allclose(ps, p, rtol=1e-6, atol=1e-12)
+    assert np.array_equal(nearests, nearest)
+
+
+def test_small_motions_and_untestable_tracks_explain_nothing():
+    rng = np.random.RandomState(2)
+    X, y = _motions(rng, [80, 80, 40], n_frames=12, n_outliers=0)
+    labels = y.copy()
+    # motion 2 keeps fewer tracks than a model needs: its others fit no model
+    third = np.flatnonzero(y == 2)
+    labels[third[MIN_MODEL_TRACKS - 1 :]] = -1
+    # a track of motion 0 seen in 2 frames has no residual degree of freedom
+    X[0, 4:] = np.nan
+    labels[0] = -1
+    X0, mask = observed_entries(X)
+    pvalues, _ = motion_model_pvalues(X0, mask, labels, 3, perspective=False)
+    assert pvalues[0] == 0.0
+    assert np.all(pvalues[third[MIN_MODEL_TRACKS - 1 :]] < 1e-6)
+
+
+def test_no_measurable_noise_clears_nothing():
+    rng = np.random.RandomState(3)
+    X, y = _motions(rng, [20, 20], n_frames=12)
+    labels = np.full(y.size, -1)
+    X0, mask = observed_entries(X)
+    pvalues, nearest = motion_model_pvalues(X0, mask, labels, 2)
+    assert np.all(pvalues == 0.0)
+    assert np.all(nearest == 0)
+
+
+def test_segment_motions_keeps_false_alarms_a_motion_explains(monkeypatch):
+    # The local test is replaced by one that flags every outlier and eight
+    # inliers: the inliers fit their motion's model and get its label back,
+    # the outliers (random walks and switches far from every motion) stay -1.
+    X, y = make_tracks(
+        scene="lab",
+        camera="affine",
+        n_tracks=150,
+        n_frames=12,
+        missing=0,
+        outlier_fraction=0.1,
+        random_state=0,
+    )[:2]
+    n = int(y.max()) + 1
+    false_alarms = np.flatnonzero(y >= 0)[::16][:8]
+    flagged = (y == -1) | np.isin(np.arange(y.size), false_alarms)
+
+    def fake_local_test(X0, mask, *args, **kwargs):
+        return np.where(flagged, 1e-9, 1.0)
+
+    monkeypatch.setattr(local_outliers, "local_outlier_pvalues", fake_local_test)
+    labels, info = segment_motions(
+        X, n, outlier_threshold=1e-3, random_state=0, return_info=True
+    )
+    inliers = y >= 0
+    assert np.all(labels[inliers] >= 0)
+    assert misclassification_rate(y[inliers], labels[inliers]) <= 0.01
+    assert np.array_equal(info.outliers, labels == -1)
+    assert np.all(info.outlier_pvalues[false_alarms] >= 1e-3)
+    # the outliers are those of make_tracks: a few drift onto a motion that
+    # moves alike and fit it; most do not
+    assert np.mean(labels[y == -1] == -1) >= 0.8
