@@ -19,7 +19,8 @@ three scenes, ``--draws`` seeds each. For every draw:
   (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`), checked on
   strongly perspective draws by the two-view test
   (:mod:`sklearn_gpca._epipolar_outliers`), computed before the
-  segmentation;
+  segmentation, and cleared when a segmented motion's model explains the
+  track (:mod:`sklearn_gpca._explained_outliers`);
 - the misclassification of the inliers (an inlier flagged -1 is an error)
   with the outliers present, and of ``segment_motions`` on the same draw
   without the outlier rows, with and without the threshold (the
@@ -411,9 +412,15 @@ def main():
         f"{PERSPECTIVE_DEVIATION:g} noise deviations) a flagged track must "
         "also fail the two-view test (`sklearn_gpca._epipolar_outliers`: "
         "each frame pair's fundamental matrices, one per motion, fitted "
-        "robustly). The local test's settings were tuned on seeds 0-2; the "
+        "robustly); once the kept tracks are segmented, a flagged track "
+        "that fits a motion's model (its 4-D subspace, and the largest "
+        "motion's perspective cameras; chi-square at the same threshold, "
+        "noise pooled over the segmented tracks: "
+        "`sklearn_gpca._explained_outliers`) is given that motion. The local "
+        "test's settings were tuned on seeds 0-2; the "
         "two-view test's (its gaps, the perspective switch) on seeds 10-12 "
-        "of the three settings, local test alone. "
+        "of the three settings, local test alone; the model check has no "
+        "setting of its own. "
         "*outlier-free*: `segment_motions` on the same draw with the outlier "
         "rows removed.",
         "",
