@@ -40,7 +40,7 @@ on the draws of ``benchmarks/bench_outliers.py``, seeds 10-17
 # SPDX-License-Identifier: BSD-3-Clause
 
 import numpy as np
-from scipy import stats
+from scipy import special, stats
 
 from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_residuals
 from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
@@ -78,8 +78,8 @@ def _motion_residuals(X0, mask, labels, n_motions, perspective):
     return residuals, dofs
 
 
-def motion_model_pvalues(X0, mask, labels, n_motions, *, perspective=True):
-    """P-value of each track under its best-fitting motion's model.
+def motion_model_log_pvalues(X0, mask, labels, n_motions, *, perspective=True):
+    """Log p-value of each track under its best-fitting motion's model.
 
     Parameters
     ----------
@@ -96,12 +96,13 @@ def motion_model_pvalues(X0, mask, labels, n_motions, *, perspective=True):
 
     Returns
     -------
-    pvalues : ndarray of shape (n_samples,)
-        ``max_k P(chi^2(dof_k) >= r_k / sigma^2)`` (see the module doc); 0
-        for a track that no model can test, and for every track when the
-        noise cannot be measured.
+    log_pvalues : ndarray of shape (n_samples,)
+        ``max_k log P(chi^2(dof_k) >= r_k / sigma^2)`` (see the module doc),
+        finite far in the tail; ``-inf`` for a track that no model can
+        test, and for every track when the noise cannot be measured.
     nearest : ndarray of shape (n_samples,), dtype=intp
-        The motion of that largest p-value.
+        The motion of that largest p-value: a track every motion misfits
+        gets the one it misfits least.
     """
     residuals, dofs = _motion_residuals(X0, mask, labels, n_motions, perspective)
     kept = np.flatnonzero(labels >= 0)
@@ -110,12 +111,27 @@ def motion_model_pvalues(X0, mask, labels, n_motions, *, perspective=True):
     measured = (own_d > 0) & np.isfinite(own_r)
     n_samples = X0.shape[0]
     if not measured.any():
-        return np.zeros(n_samples), np.zeros(n_samples, dtype=np.intp)
+        return np.full(n_samples, -np.inf), np.zeros(n_samples, dtype=np.intp)
     noise = float(np.median(own_r[measured] / stats.chi2.median(own_d[measured])))
     testable = (dofs > 0) & np.isfinite(residuals)
-    pvalues = np.zeros(residuals.shape)
-    pvalues[testable] = stats.chi2.sf(
+    log_pvalues = np.full(residuals.shape, -np.inf)
+    log_pvalues[testable] = _chi2_log_sf(
         residuals[testable] / max(noise, TINY), dofs[testable]
     )
-    nearest = np.argmax(pvalues, axis=1).astype(np.intp)
-    return pvalues[np.arange(n_samples), nearest], nearest
+    nearest = np.argmax(log_pvalues, axis=1).astype(np.intp)
+    return log_pvalues[np.arange(n_samples), nearest], nearest
+
+
+def _chi2_log_sf(x, dof):
+    """``log P(chi^2(dof) >= x)``, finite far in the tail too.
+
+    Where scipy's ``logsf`` underflows, the leading term of the upper
+    incomplete gamma function, ``Gamma(a, y) ~ y^(a - 1) e^(-y)`` (``a =
+    dof / 2``, ``y = x / 2``), which then holds to a small relative error:
+    the motions that a track misfits by far are still ranked.
+    """
+    out = stats.chi2.logsf(x, dof)
+    far = ~np.isfinite(out)
+    half, y = dof[far] / 2, x[far] / 2
+    out[far] = (half - 1) * np.log(y) - y - special.gammaln(half)
+    return out

@@ -249,8 +249,8 @@ def screened_segmentation(
     """Set aside the tracks that fail the local test, segment the others.
 
     The set-aside tracks are labelled ``-1``, or, with ``assign``, given the
-    nearest motion once the others are segmented (then without the two-view
-    test, which only clears false alarms).
+    motion whose model fits them best once the others are segmented (then
+    without the two-view test, which only clears false alarms).
 
     The test (:func:`sklearn_gpca._local_outliers.local_outlier_pvalues`)
     needs no segmentation, so the outliers are set aside *before* the
@@ -260,7 +260,7 @@ def screened_segmentation(
     :func:`sklearn_gpca._epipolar_outliers.perspective_checked_pvalues`.
     Once the kept tracks are segmented, a set-aside track must also fit none
     of the motions' models
-    (:func:`sklearn_gpca._explained_outliers.motion_model_pvalues`, not with
+    (:func:`sklearn_gpca._explained_outliers.motion_model_log_pvalues`, not with
     ``assign``): one that fits is given that motion.
 
     Parameters
@@ -282,9 +282,12 @@ def screened_segmentation(
         larger of the local test's and the motions' models') and
         ``outliers`` (bool mask of the tracks labelled ``-1``).
     assign : bool, default=False
-        Give each set-aside track the motion whose subspace (fitted to the
-        motion's kept tracks on their observed entries) is nearest on the
-        track's observed entries, instead of ``-1``.
+        Give each set-aside track the motion whose model, fitted to the
+        motion's kept tracks (its 4-D subspace on their observed entries;
+        for the largest motion also its perspective cameras), fits the
+        track best (the largest chi-square p-value,
+        :func:`sklearn_gpca._explained_outliers.motion_model_log_pvalues`),
+        instead of ``-1``.
     pooled : bool, default=False
         When tracks are set aside, also call ``segment`` on every track
         (``candidates_only=True``) and pass its refined candidates,
@@ -301,6 +304,7 @@ def screened_segmentation(
         Only with ``return_info``.
     """
     from sklearn_gpca._epipolar_outliers import perspective_checked_pvalues
+    from sklearn_gpca._explained_outliers import motion_model_log_pvalues
     from sklearn_gpca._local_outliers import local_outlier_pvalues
     from sklearn_gpca._observed_subspaces import observed_entries
 
@@ -343,21 +347,29 @@ def screened_segmentation(
     )
     labels = np.full(n_samples, -1, dtype=np.intp)
     labels[kept] = result[0] if return_info else result
-    if not assign and outliers.any():
-        pvalues, outliers = _explained_by_motions(
+    if outliers.any():
+        log_pvalues, nearest = motion_model_log_pvalues(
             X0,
             mask,
             labels,
             n_motions,
-            pvalues,
-            outliers,
-            outlier_threshold,
             perspective=kwargs.get("perspective_background", True),
         )
-    if assign and outliers.any():
-        from sklearn_gpca._segment import _nearest_labels
-
-        labels = _nearest_labels(X0, mask, np.maximum(labels, 0), kept, n_motions)
+        if assign:
+            labels = _assigned(X0, mask, labels, kept, n_motions, log_pvalues, nearest)
+        else:
+            cleared = outliers & (log_pvalues >= np.log(outlier_threshold))
+            labels[cleared] = nearest[cleared]
+            _log.info(
+                "outlier check: %d of %d set-aside tracks fit a motion's model "
+                "and keep it",
+                np.count_nonzero(cleared),
+                np.count_nonzero(outliers),
+            )
+            pvalues = np.where(
+                outliers, np.maximum(pvalues, np.exp(log_pvalues)), pvalues
+            )
+            outliers &= ~cleared
     if return_info:
         info = result[1]
         info.outlier_pvalues = pvalues
@@ -366,30 +378,22 @@ def screened_segmentation(
     return labels
 
 
-def _explained_by_motions(
-    X0, mask, labels, n_motions, pvalues, outliers, threshold, *, perspective
-):
-    """Clear the set-aside tracks that a segmented motion's model explains.
+def _assigned(X0, mask, labels, kept, n_motions, log_pvalues, nearest):
+    """Labels with every set-aside track given the motion whose model fits it best.
 
-    See :mod:`sklearn_gpca._explained_outliers`. Updates ``labels`` in place
-    (a cleared track gets the motion that explains it best) and returns the
-    p-values (a set-aside track's is the larger of the local test's and the
-    models') and the outliers left.
+    ``nearest`` and ``log_pvalues`` are from
+    :func:`sklearn_gpca._explained_outliers.motion_model_log_pvalues`: the
+    largest motion is also modelled by a perspective camera, which its
+    nearest tracks need (they are the ones the local test sets aside under
+    strong perspective). A track that no model tests gets the nearest 4-D
+    subspace of the kept tracks' motions on its observed entries.
     """
-    from sklearn_gpca._explained_outliers import motion_model_pvalues
+    from sklearn_gpca._segment import _nearest_labels
 
-    model_pvalues, nearest = motion_model_pvalues(
-        X0, mask, labels, n_motions, perspective=perspective
-    )
-    cleared = outliers & (model_pvalues >= threshold)
-    labels[cleared] = nearest[cleared]
-    _log.info(
-        "outlier check: %d of %d set-aside tracks fit a motion's model and keep it",
-        np.count_nonzero(cleared),
-        np.count_nonzero(outliers),
-    )
-    pvalues = np.where(outliers, np.maximum(pvalues, model_pvalues), pvalues)
-    return pvalues, outliers & ~cleared
+    fallback = _nearest_labels(X0, mask, np.maximum(labels, 0), kept, n_motions)
+    return np.where(
+        kept, labels, np.where(np.isfinite(log_pvalues), nearest, fallback)
+    ).astype(np.intp)
 
 
 def _pooled_candidates(segment, X, kept, n_motions, *, init, **kwargs):

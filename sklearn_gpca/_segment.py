@@ -809,8 +809,11 @@ def segment_motions(
         Without ``outlier_threshold``: set aside the tracks that the same
         test flags at the false-alarm probability ``SCREEN_THRESHOLD``
         (``1e-3``) while the motions are found, then give each the motion
-        whose subspace is nearest on its observed entries, so that every
-        track keeps a label in ``0 .. n_motions - 1``. A tracker's few
+        whose model fits it best (a chi-square test of its residual to each
+        motion's 4-D subspace on its observed entries and, for the largest
+        motion, to its perspective cameras, which the nearest tracks of a
+        perspective background need), so that every track keeps a label in
+        ``0 .. n_motions - 1``. A tracker's few
         outlier tracks otherwise pull the candidates apart (the effect on
         ``make_tracks`` draws with their 3-5 % of outlier tracks and on every
         fifth Hopkins155 sequence: ``benchmarks/results/screening.md``). The
