@@ -91,10 +91,8 @@ def test_no_measurable_noise_clears_nothing():
     assert np.all(nearest == 0)
 
 
-def test_segment_motions_keeps_false_alarms_a_motion_explains(monkeypatch):
-    # The local test is replaced by one that flags every outlier and eight
-    # inliers: the inliers fit their motion's model and get its label back,
-    # the outliers (random walks and switches far from every motion) stay -1.
+def _flagged_lab_draw(monkeypatch):
+    """A lab draw whose local test (faked) flags every outlier and 8 inliers."""
     X, y = make_tracks(
         scene="lab",
         camera="affine",
@@ -104,14 +102,22 @@ def test_segment_motions_keeps_false_alarms_a_motion_explains(monkeypatch):
         outlier_fraction=0.1,
         random_state=0,
     )[:2]
-    n = int(y.max()) + 1
     false_alarms = np.flatnonzero(y >= 0)[::16][:8]
     flagged = (y == -1) | np.isin(np.arange(y.size), false_alarms)
+    monkeypatch.setattr(
+        local_outliers,
+        "local_outlier_pvalues",
+        lambda X0, mask, *args, **kwargs: np.where(flagged, 1e-9, 1.0),
+    )
+    return X, y, false_alarms, flagged
 
-    def fake_local_test(X0, mask, *args, **kwargs):
-        return np.where(flagged, 1e-9, 1.0)
 
-    monkeypatch.setattr(local_outliers, "local_outlier_pvalues", fake_local_test)
+def test_segment_motions_keeps_false_alarms_a_motion_explains(monkeypatch):
+    # The inliers the local test flags fit their motion's model and get its
+    # label back; the outliers (random walks and switches far from every
+    # motion) stay -1.
+    X, y, false_alarms, _ = _flagged_lab_draw(monkeypatch)
+    n = int(y.max()) + 1
     labels, info = segment_motions(
         X, n, outlier_threshold=1e-3, random_state=0, return_info=True
     )
@@ -149,26 +155,10 @@ def test_set_aside_background_tracks_go_back_to_the_background(seed):
 
 
 def test_default_gives_set_aside_tracks_their_motion(monkeypatch):
-    # Without outlier_threshold the set-aside tracks (here a fake local
-    # test's: every outlier and eight inliers) all get a motion, the inliers
-    # their own.
-    X, y = make_tracks(
-        scene="lab",
-        camera="affine",
-        n_tracks=150,
-        n_frames=12,
-        missing=0,
-        outlier_fraction=0.1,
-        random_state=0,
-    )[:2]
+    # Without outlier_threshold the set-aside tracks (every outlier and
+    # eight inliers) all get a motion, the inliers their own.
+    X, y, _, flagged = _flagged_lab_draw(monkeypatch)
     n = int(y.max()) + 1
-    false_alarms = np.flatnonzero(y >= 0)[::16][:8]
-    flagged = (y == -1) | np.isin(np.arange(y.size), false_alarms)
-    monkeypatch.setattr(
-        local_outliers,
-        "local_outlier_pvalues",
-        lambda X0, mask, *args, **kwargs: np.where(flagged, 1e-9, 1.0),
-    )
     labels, info = segment_motions(X, n, random_state=0, return_info=True)
     assert np.array_equal(info.outliers, flagged)
     assert np.all((labels >= 0) & (labels < n))
