@@ -415,7 +415,7 @@ def main():
         "robustly); once the kept tracks are segmented, a flagged track "
         "that fits a motion's model (its 4-D subspace, and the largest "
         "motion's perspective cameras; chi-square at the same threshold, "
-        "noise pooled over the segmented tracks: "
+        "noise pooled over the segmented tracks, through an empirical null: "
         "`sklearn_gpca._explained_outliers`) is given that motion. The local "
         "test's settings were tuned on seeds 0-2; the "
         "two-view test's (its gaps, the perspective switch) on seeds 10-12 "

@@ -43,21 +43,23 @@ THRESHOLDS = (1e-3, 1e-6)
 SEGMENT_THRESHOLD = 1e-3
 
 
-def collections(hopkins, lowrank):
+def collections(hopkins, lowrank, step=1):
     """``(name, list of (X, number of motions))`` of the real track sets."""
     if hopkins:
-        bunches = list(load_hopkins155(hopkins))
+        bunches = list(load_hopkins155(hopkins))[::step]
+        every = f"every {step}th sequence, " if step > 1 else ""
         yield (
-            "Hopkins155, complete (155 sequences)",
+            f"Hopkins155, complete ({every}{len(bunches)} sequences)",
             [(b.X, b.n_motions) for b in bunches],
         )
+        occluded = [
+            (make_missing(b.X, 0.3, random_state=0), 2)
+            for b in bunches
+            if b.n_motions == 2
+        ]
         yield (
-            "Hopkins155, 2 motions, 30 % occlusion (120 sequences)",
-            [
-                (make_missing(b.X, 0.3, random_state=0), 2)
-                for b in bunches
-                if b.n_motions == 2
-            ],
+            f"Hopkins155, 2 motions, 30 % occlusion ({every}{len(occluded)} sequences)",
+            occluded,
         )
     if lowrank:
         for name in ("Dino_trimmed", "Dino"):
@@ -85,10 +87,11 @@ def main(argv=None):
     parser.add_argument("--lowrank", default=None, help="lowrank folder")
     parser.add_argument("--out", default="benchmarks/results/false_alarms.md")
     parser.add_argument("--jobs", type=int, default=1)
+    parser.add_argument("--step", type=int, default=1, help="every k-th sequence")
     args = parser.parse_args(argv)
     begin = time.perf_counter()
     rows = []
-    for name, sets in collections(args.hopkins, args.lowrank):
+    for name, sets in collections(args.hopkins, args.lowrank, args.step):
         counts = Parallel(n_jobs=args.jobs)(delayed(count_flags)(X, n) for X, n in sets)
         n_tracks = sum(X.shape[0] for X, _ in sets)
         flagged = {
@@ -118,6 +121,8 @@ def main(argv=None):
     if args.lowrank:
         command += " --lowrank ../shared/data/lowrank"
     command += f" --jobs {args.jobs}"
+    if args.step > 1:
+        command += f" --step {args.step}"
     text = "\n".join(
         [
             "# The local outlier test on real tracks: false alarms",

@@ -164,3 +164,20 @@ def test_default_gives_set_aside_tracks_their_motion(monkeypatch):
     assert np.all((labels >= 0) & (labels < n))
     inliers = y >= 0
     assert misclassification_rate(y[inliers], labels[inliers]) <= 0.01
+
+
+def test_uneven_noise_widens_the_null():
+    # Real tracks' noise differs from track to track: here each inlier's
+    # noise is 0.5 to 2 times a common level. Against one Gaussian level a
+    # quarter of the inliers is rejected; under the empirical null few are,
+    # while the outliers still fit no motion.
+    rng = np.random.RandomState(4)
+    X, y = _motions(rng, [150, 100, 80], noise=0.0)
+    inliers = y >= 0
+    levels = 0.01 * np.exp(rng.uniform(np.log(0.5), np.log(2.0), size=y.size))
+    X[inliers] += levels[inliers, None] * rng.normal(size=X[inliers].shape)
+    X0, mask = observed_entries(X)
+    log_p, nearest = motion_model_log_pvalues(X0, mask, y, 3, perspective=False)
+    assert np.mean(log_p[inliers] < np.log(1e-3)) <= 0.02
+    assert np.array_equal(nearest[inliers], y[inliers])
+    assert np.all(log_p[~inliers] < np.log(1e-6))
