@@ -390,10 +390,12 @@ def _assigned(X0, mask, labels, kept, n_motions, log_pvalues, nearest):
     """
     from sklearn_gpca._segment import _nearest_labels
 
-    fallback = _nearest_labels(X0, mask, np.maximum(labels, 0), kept, n_motions)
-    return np.where(
-        kept, labels, np.where(np.isfinite(log_pvalues), nearest, fallback)
-    ).astype(np.intp)
+    assigned = np.where(kept, labels, nearest).astype(np.intp)
+    untested = ~kept & ~np.isfinite(log_pvalues)
+    if untested.any():
+        fallback = _nearest_labels(X0, mask, np.maximum(labels, 0), kept, n_motions)
+        assigned[untested] = fallback[untested]
+    return assigned
 
 
 def _pooled_candidates(segment, X, kept, n_motions, *, init, **kwargs):

@@ -181,3 +181,17 @@ def test_uneven_noise_widens_the_null():
     assert np.mean(log_p[inliers] < np.log(1e-3)) <= 0.02
     assert np.array_equal(nearest[inliers], y[inliers])
     assert np.all(log_p[~inliers] < np.log(1e-6))
+
+
+def test_tracks_no_model_tests_get_the_nearest_subspace():
+    # Motions of fewer than MIN_MODEL_TRACKS kept tracks explain nothing: the
+    # set-aside tracks then get the nearest 4-D subspace of the kept tracks.
+    rng = np.random.RandomState(5)
+    X, y = _motions(rng, [10, 10], n_frames=12, n_outliers=0)
+    kept = np.ones(y.size, dtype=bool)
+    kept[[0, 10]] = False
+    labels = np.where(kept, y, -1)
+    X0, mask = observed_entries(X)
+    log_p, nearest = motion_model_log_pvalues(X0, mask, labels, 2)
+    assert np.all(log_p == -np.inf)
+    assert np.array_equal(_assigned(X0, mask, labels, kept, 2, log_p, nearest), y)
