@@ -51,6 +51,7 @@ on the draws of ``benchmarks/bench_outliers.py``, seeds 10-17
 import numpy as np
 from scipy import special, stats
 
+from sklearn_gpca._local_outliers import normal_scores, null_width
 from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_residuals
 from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
 from sklearn_gpca._rows import TINY
@@ -142,11 +143,8 @@ def _empirical_null(log_pvalues, own_log_pvalues):
     The width is that of the segmented tracks' scores under their own
     motion, measured on their lower half (see the module doc).
     """
-    scores = -special.ndtri_exp(np.minimum(log_pvalues, -1e-300))
-    own = -special.ndtri_exp(np.minimum(own_log_pvalues, -1e-300))
-    lower_quartile, median = np.percentile(own, [25, 50])
-    width = max((median - lower_quartile) / 0.6744897501960817, 1.0)
-    return stats.norm.logsf(scores / width)
+    width = null_width(normal_scores(own_log_pvalues))
+    return stats.norm.logsf(normal_scores(log_pvalues) / width)
 
 
 def _chi2_log_sf(x, dof):

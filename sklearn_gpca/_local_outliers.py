@@ -138,12 +138,21 @@ def _window_statistics(x, m, rows, dim, n_neighbors, beta, pool):
     return residual / (dof1 * sigma2), dof1, dof2, tested, measured
 
 
+def normal_scores(log_p):
+    """Normal scores ``z`` with ``P(N(0, 1) >= z) = p`` of log p-values."""
+    return -special.ndtri_exp(np.minimum(log_p, -1e-300))
+
+
+def null_width(scores):
+    """Width of an empirical null from its lower half (step 4), at least 1."""
+    lower_quartile, median = np.percentile(scores, [25, 50])
+    return max((median - lower_quartile) / 0.6744897501960817, 1.0)
+
+
 def _empirical_null(log_p, tested):
     """Log-p-values under the empirical null of the ``tested`` tracks (step 4)."""
-    z = -special.ndtri_exp(np.minimum(log_p, -1e-300))
-    lower = np.percentile(z[tested], [25, 50])
-    width = max((lower[1] - lower[0]) / 0.6744897501960817, 1.0)
-    return np.maximum(stats.norm.logsf(z / width), _LOG_FLOOR)
+    z = normal_scores(log_p)
+    return np.maximum(stats.norm.logsf(z / null_width(z[tested])), _LOG_FLOOR)
 
 
 def local_outlier_pvalues(
