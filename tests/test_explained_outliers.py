@@ -2,6 +2,7 @@
 
 import numpy as np
 import pytest
+from _outlier_draws import affine_lab_draw
 
 import sklearn_gpca._local_outliers as local_outliers
 from sklearn_gpca import segment_motions
@@ -93,15 +94,7 @@ def test_no_measurable_noise_clears_nothing():
 
 def _flagged_lab_draw(monkeypatch):
     """A lab draw whose local test (faked) flags every outlier and 8 inliers."""
-    X, y = make_tracks(
-        scene="lab",
-        camera="affine",
-        n_tracks=150,
-        n_frames=12,
-        missing=0,
-        outlier_fraction=0.1,
-        random_state=0,
-    )[:2]
+    X, y = affine_lab_draw(0)[:2]
     false_alarms = np.flatnonzero(y >= 0)[::16][:8]
     flagged = (y == -1) | np.isin(np.arange(y.size), false_alarms)
     monkeypatch.setattr(

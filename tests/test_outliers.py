@@ -4,13 +4,13 @@
 
 import numpy as np
 import pytest
+from _outlier_draws import affine_lab_draw
 from hypothesis import given
 from hypothesis import strategies as st
 
 from sklearn_gpca import MotionSegmentation, segment_motions
 from sklearn_gpca._observed_subspaces import observed_entries
 from sklearn_gpca._outliers import frame_windows, outlier_pvalues
-from sklearn_gpca.datasets import make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
 
@@ -83,19 +83,6 @@ def test_untestable_tracks_get_pvalue_one():
     assert np.all(outlier_pvalues(X0, mask, y, 2)[:5] == 1.0)
 
 
-def _affine_draw(seed, **kwargs):
-    params = dict(
-        scene="lab",
-        camera="affine",
-        n_tracks=150,
-        n_frames=12,
-        missing=0,
-        outlier_fraction=0.1,
-    )
-    params.update(kwargs)
-    return make_tracks(**params, random_state=seed, return_info=True)
-
-
 def _excess_misfit(info, y):
     """Noise-free residual of every track to its nearest true motion subspace,
     on its observed frames, in units of the noise variance per coordinate."""
@@ -122,7 +109,7 @@ def test_true_labels_flag_every_clear_outlier_and_no_inlier(seed):
     # with <= 24 degrees of freedom) is flagged in some window of 16 frames
     # whatever the split of its misfit between the 1-2 windows of a 12-frame
     # draw.
-    X, y, info = _affine_draw(seed)
+    X, y, info = affine_lab_draw(seed)
     X0, mask = observed_entries(X)
     flagged = outlier_pvalues(X0, mask, y, int(y.max()) + 1) < 1e-5
     assert not np.any(flagged & (y >= 0))
@@ -135,7 +122,7 @@ def test_segment_motions_flags_outliers_of_a_draw():
     # segment_motions (outliers not known) started from the true motions with
     # every outlier put in a random motion: the local test flags the clear
     # outliers (as above) and no inlier, and the inliers keep their labels.
-    X, y, info = _affine_draw(0)
+    X, y, info = affine_lab_draw(0)
     n = int(y.max()) + 1
     start = np.where(y >= 0, y, np.random.RandomState(0).randint(n, size=y.size))
     labels = segment_motions(X, n, init=start, outlier_threshold=1e-5, random_state=0)
@@ -151,7 +138,7 @@ def test_segment_motions_flags_outliers_of_a_draw():
 
 
 def test_clean_draw_flags_no_inlier():
-    X, y, _ = _affine_draw(1, outlier_fraction=0.0)
+    X, y, _ = affine_lab_draw(1, outlier_fraction=0.0)
     labels = segment_motions(X, int(y.max()) + 1, outlier_threshold=1e-3)
     assert not np.any(labels == -1)
 
@@ -163,7 +150,7 @@ def test_outlier_labels_drawn_by_the_display():
     matplotlib.use("Agg")
     from sklearn_gpca.plotting import TrajectoryDisplay
 
-    X, y, _ = _affine_draw(0)
+    X, y, _ = affine_lab_draw(0)
     start = np.where(y >= 0, y, 0)
     labels = segment_motions(X, 2, init=start, outlier_threshold=1e-5, random_state=0)
     display = TrajectoryDisplay.from_predictions(X, labels, y_true=y)

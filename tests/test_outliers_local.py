@@ -4,6 +4,7 @@
 
 import numpy as np
 import pytest
+from _outlier_draws import affine_lab_draw
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -199,15 +200,7 @@ def test_untestable_tracks_get_pvalue_one():
 def test_segment_motions_sets_outliers_aside_before_segmenting():
     # The -1 of segment_motions are the local test's flags, and the other
     # tracks are segmented as if the flagged ones were not there.
-    X, y = make_tracks(
-        scene="lab",
-        camera="affine",
-        n_tracks=150,
-        n_frames=12,
-        missing=0,
-        outlier_fraction=0.1,
-        random_state=0,
-    )
+    X, y = affine_lab_draw(0)[:2]
     labels, info = segment_motions(
         X, 2, outlier_threshold=1e-3, random_state=0, return_info=True
     )
