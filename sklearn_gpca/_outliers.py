@@ -304,7 +304,10 @@ def screened_segmentation(
         Only with ``return_info``.
     """
     from sklearn_gpca._epipolar_outliers import perspective_checked_pvalues
-    from sklearn_gpca._explained_outliers import motion_model_log_pvalues
+    from sklearn_gpca._explained_outliers import (
+        MIN_MODEL_TRACKS,
+        motion_model_log_pvalues,
+    )
     from sklearn_gpca._local_outliers import local_outlier_pvalues
     from sklearn_gpca._observed_subspaces import observed_entries
 
@@ -354,6 +357,8 @@ def screened_segmentation(
             labels,
             n_motions,
             perspective=kwargs.get("perspective_background", True),
+            # assigned: every motion competes, however few its kept tracks
+            min_tracks=1 if assign else MIN_MODEL_TRACKS,
         )
         if assign:
             labels = _assigned(X0, mask, labels, kept, n_motions, log_pvalues, nearest)

@@ -188,3 +188,21 @@ def test_tracks_no_model_tests_get_the_nearest_subspace():
     log_p, nearest = motion_model_log_pvalues(X0, mask, labels, 2)
     assert np.all(log_p == -np.inf)
     assert np.array_equal(_assigned(X0, mask, labels, kept, 2, log_p, nearest), y)
+
+
+def test_default_gives_a_small_motion_its_set_aside_tracks(monkeypatch):
+    # A small object (14 tracks) whose local test (faked) sets half its
+    # tracks aside keeps 7, fewer than MIN_MODEL_TRACKS: its model must
+    # still compete for the set-aside tracks, or they all go to the
+    # background (Hopkins155 head: 3.0 -> 9.1 %).
+    rng = np.random.RandomState(6)
+    X, y = _motions(rng, [100, 14], n_frames=12, n_outliers=0)
+    flagged = np.isin(np.arange(y.size), [0, 1, *range(100, 107)])
+    monkeypatch.setattr(
+        local_outliers,
+        "local_outlier_pvalues",
+        lambda X0, mask, *args, **kwargs: np.where(flagged, 1e-9, 1.0),
+    )
+    labels, info = segment_motions(X, 2, random_state=0, return_info=True)
+    assert np.array_equal(info.outliers, flagged)
+    assert misclassification_rate(y, labels) == 0.0
