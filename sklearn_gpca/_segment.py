@@ -33,15 +33,21 @@ sequence -- and returns one motion label per track. Beyond the paper
    refinement that empties a motion (fewer than ``subspace_dim + 1`` tracks)
    gives it the smaller half of the largest motion and refines again
    (:mod:`sklearn_gpca._reseed_motions`);
-3. one refined candidate kept (:mod:`sklearn_gpca._segment_selection`): the
-   shortest coding length among the candidates that leave the fewest tracks
-   ambiguous between two motions (or, ``selection="coding_length"``, the
-   shortest coding length);
+3. one refined candidate kept: by default (``selection="consistency"``,
+   :mod:`sklearn_gpca._model_consistency`) the one whose groups' own models
+   (the largest a perspective camera) fit their tracks best, with a cost for
+   each track that another group's model fits better; or
+   (:mod:`sklearn_gpca._segment_selection`) the shortest coding length among
+   the candidates that leave the fewest tracks ambiguous between two motions
+   (``"separability"``), or the shortest coding length;
 4. optionally (``merge_split=True``), merge/split moves
    (:mod:`sklearn_gpca._merge_split`): two motions merged and another cut in
    two, refined, kept while the selection rule prefers the result;
-5. optionally, tracks that disagree with their neighbours labelled ``-1``,
-   and set aside before step 1.
+5. tracks that disagree with their neighbours set aside before step 1
+   (:mod:`sklearn_gpca._local_outliers`), then given the motion whose model
+   fits them best (:mod:`sklearn_gpca._explained_outliers`); with
+   ``outlier_threshold``, labelled ``-1`` unless a motion's model explains
+   them.
 
 :class:`sklearn_gpca.MotionSegmentation` is the estimator around it.
 """
