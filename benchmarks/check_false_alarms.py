@@ -47,7 +47,7 @@ def collections(hopkins, lowrank, step=1):
     """``(name, list of (X, number of motions))`` of the real track sets."""
     if hopkins:
         bunches = list(load_hopkins155(hopkins))[::step]
-        every = f"every {step}th sequence, " if step > 1 else ""
+        every = f"every {step}-th sequence, " if step > 1 else ""
         yield (
             f"Hopkins155, complete ({every}{len(bunches)} sequences)",
             [(b.X, b.n_motions) for b in bunches],

@@ -36,7 +36,9 @@ test rejects it too: an inlier is then flagged with probability at most the
 threshold, as with the local test alone. A motion of fewer than
 ``MIN_MODEL_TRACKS`` kept tracks explains no track (a model fitted to a few
 tracks fits almost anything), nor does a model that leaves a track no degree
-of freedom.
+of freedom. To *assign* the set-aside tracks (the default, without
+``outlier_threshold``) every motion with a kept track competes
+(``min_tracks=1``): there a small motion's model must be able to win.
 
 This test alone is not an outlier test: the models of motions that are not
 exactly affine (perspective objects, a wrong segmentation) misfit many inliers
@@ -76,7 +78,7 @@ def _motion_residuals(X0, mask, labels, n_motions, perspective, min_tracks):
     dofs = np.zeros((n_samples, n_motions), dtype=np.intp)
     sizes = np.bincount(labels[labels >= 0], minlength=n_motions)
     largest = int(np.argmax(sizes))
-    for k in np.flatnonzero((sizes >= min_tracks) & (sizes > 0)):
+    for k in np.flatnonzero(sizes >= max(min_tracks, 1)):
         members = labels == k
         basis, support = fit_observed_subspace(X0[members], mask[members], MOTION_DIM)
         r, d = subspace_residuals(X0, mask, [basis], [support])
