@@ -131,6 +131,12 @@ SCREEN_THRESHOLD = 1e-3
 #: The ambiguity is measured with subspaces this much smaller than the
 #: motions' (``subspace_dim``), see ``segment_motions``.
 AMBIGUITY_DIM_DROP = 1
+#: Above this share of inconsistent tracks (nearer another motion's model)
+#: in the candidate ``init="all"`` keeps, the peeled starts are drawn too and
+#: judged beside the others. Drawn every time they cost 1.5-1.8 times the time
+#: and the consistency rule preferred wrong peeled candidates on Hopkins155
+#: (three motions 1.81 -> 2.84 %); there the kept candidate is consistent.
+PEEL_INCONSISTENCY = 0.05
 #: Most merge/split moves kept per motion (each round refines every move).
 MAX_MOVES_PER_MOTION = 1
 #: Models whose hypothesis votes make the "votes" candidate.
@@ -648,9 +654,15 @@ def segment_motions(
         ``"gpca"`` or ``"votes"`` one route; ``"peel"`` the starts that
         peel the dominant motion off first (:mod:`sklearn_gpca._peel_starts`:
         the largest consensus of fragments one subspace fits, at three
-        thresholds, the rest merged into ``n_motions - 1``; not part of
-        ``"all"``: on the ``make_tracks`` draws it did not lower the kept
-        error, see ``benchmarks/results/segment_tracks.md``); an array of
+        thresholds, the rest merged into ``n_motions - 1``). ``"all"``
+        draws the peeled starts as a fallback: with ``selection=
+        "consistency"``, on tracks that are not dense, when the candidate it
+        keeps leaves more than ``PEEL_INCONSISTENCY`` (5 %) of the tracks
+        nearer another motion's model, the peeled starts are refined and
+        judged beside the others (drawn every time, they lowered the error
+        on ``make_tracks`` draws, but on Hopkins155 sequences whose kept
+        candidate was consistent the rule preferred a wrong peeled one; see
+        ``benchmarks/results/history_tracker_output.md``); an array of
         labels ``0 .. n_motions - 1`` is refined as it is. The votes are the
         only route that finds the small objects in front of a perspective
         background (``make_tracks`` driving scenes); see
@@ -1044,6 +1056,42 @@ class _Refiner:
         return labels, n_iter, cameras
 
 
+def _add_perspective_background(
+    refiner, names, initial, refined, n_iters, cameras, *, first=0, n_jobs=None
+):
+    """Append the perspective-background refinements of candidates ``first`` on.
+
+    Each refined candidate is refined again with its largest motion (the
+    background of tracker output) seen by a perspective camera, from its
+    refined labels and from its start (the affine refinement may have cut the
+    background by depth); equal starts (up to the names of the labels) are
+    refined once. The lists are extended in place; an affine candidate's
+    ``cameras`` entry becomes its perspective refinement's cameras.
+    """
+    last = len(refined)
+    starts = {}
+    for k in range(first, last):
+        for start in (refined[k], initial[k]):
+            starts.setdefault(_partition_key(start), start)
+    done = dict(
+        zip(
+            starts,
+            map_jobs(partial(refiner, perspective=True), starts.values(), n_jobs),
+            strict=True,
+        )
+    )
+    for k in range(first, last):
+        for start, suffix in ((refined[k], ""), (initial[k], ", from its start")):
+            labels, n_iter, fitted = done[_partition_key(start)]
+            names.append(f"{names[k]} + perspective background{suffix}")
+            initial.append(start)
+            refined.append(labels)
+            n_iters.append(n_iter)
+            cameras.append(fitted)
+            # the affine candidate's background camera starts from them
+            cameras[k] = fitted if cameras[k] is None else cameras[k]
+
+
 def _refined_candidates(
     X,
     n_motions,
@@ -1166,32 +1214,9 @@ def _refined_candidates(
         n_iters.append(n_iter)
         cameras.append(None)
     if perspective_background and n_motions > 1:
-        # each refined candidate refined again with its largest motion (the
-        # background of tracker output) seen by a perspective camera, from
-        # its refined labels and from its start (the affine refinement may
-        # have cut the background by depth); equal starts (up to the names of
-        # the labels) are refined once
-        starts = {}
-        for k in range(len(refined)):
-            for start in (refined[k], initial[k]):
-                starts.setdefault(_partition_key(start), start)
-        done = dict(
-            zip(
-                starts,
-                map_jobs(partial(refiner, perspective=True), starts.values(), n_jobs),
-                strict=True,
-            )
+        _add_perspective_background(
+            refiner, names, initial, refined, n_iters, cameras, n_jobs=n_jobs
         )
-        for k in range(len(refined)):
-            for start, suffix in ((refined[k], ""), (initial[k], ", from its start")):
-                labels, n_iter, fitted = done[_partition_key(start)]
-                names.append(f"{names[k]} + perspective background{suffix}")
-                initial.append(start)
-                refined.append(labels)
-                n_iters.append(n_iter)
-                cameras.append(fitted)
-                # the affine candidate's background camera starts from them
-                cameras[k] = fitted if cameras[k] is None else cameras[k]
     _log.info(
         "%d tracks: %d refined candidates in %.1f s",
         n_samples,
@@ -1211,6 +1236,45 @@ def _refined_candidates(
         n_iters=n_iters,
         cameras=cameras,
     )
+
+
+def _add_peeled(candidates, n_motions, lists, *, perspective_background, n_jobs):
+    """Append the refined peeled starts (``init="peel"``) to ``lists``.
+
+    ``candidates`` is :func:`_refined_candidates`' Bunch (its tracks, graph
+    and refiner are reused); ``lists`` are the ``names``, ``initial``,
+    ``refined``, ``n_iters`` and ``cameras`` being judged, extended in place.
+    """
+    names, initial, refined, n_iters, cameras = lists
+    refiner = candidates.refiner
+    fragments = track_fragments(
+        candidates.affinity,
+        n_motions,
+        random_state=refiner.refine_kwargs["random_state"],
+    )
+    peeled = peel_candidates(
+        candidates.X0, candidates.mask, fragments, n_motions, candidates.noise
+    )
+    first = len(refined)
+    for (name, start), (labels, n_iter, _) in zip(
+        peeled, map_jobs(refiner, [start for _, start in peeled], n_jobs), strict=True
+    ):
+        names.append(name)
+        initial.append(start)
+        refined.append(labels)
+        n_iters.append(n_iter)
+        cameras.append(None)
+    if perspective_background and len(refined) > first:
+        _add_perspective_background(
+            refiner,
+            names,
+            initial,
+            refined,
+            n_iters,
+            cameras,
+            first=first,
+            n_jobs=n_jobs,
+        )
 
 
 def _segment_tracks(
@@ -1294,83 +1358,114 @@ def _segment_tracks(
         n_iters.append(0)
         cameras.append(None if fitted is None else rescaled_cameras(fitted, 1 / scale))
     clock = time.perf_counter()
-    # candidates are compared on the tracks none of them calls an outlier
-    common = np.logical_and.reduce([labels >= 0 for labels in refined])
-    lengths = np.array(
-        [
-            coding_length(X0[common], labels[common], noise, mask[common])
-            for labels in refined
-        ]
-    )
-    ambiguity = np.array(
-        [
-            ambiguous_fraction(
-                X0[common],
-                mask[common],
-                labels[common],
-                noise,
-                subspace_dim=max(subspace_dim - AMBIGUITY_DIM_DROP, 1),
-            )
-            if np.unique(labels[common]).size > 1
-            and (selection in ("separability", "fitted_separability") or return_info)
-            else np.nan
-            for labels in refined
-        ]
-    )
-    consistency = np.full((len(refined), 2), np.nan)
-    if selection == "consistency" or return_info:
-        consistency = _consistency_scores(
-            X0,
-            mask,
-            refined,
-            cameras,
-            noise,
-            common=common,
-            n_jobs=n_jobs,
-            subspace_dim=subspace_dim,
-            perspective_background=perspective_background,
-        )
-    fitted = np.full(len(refined), np.nan)
-    if selection == "fitted_separability":
-        min_dim = max(subspace_dim - AMBIGUITY_DIM_DROP, 1)
-        fitted = np.array(
+    judged = {}
+
+    def judge():
+        # candidates are compared on the tracks none of them calls an outlier
+        common = np.logical_and.reduce([labels >= 0 for labels in refined])
+        lengths = np.array(
             [
-                fitted_ambiguous_fraction(
+                coding_length(X0[common], labels[common], noise, mask[common])
+                for labels in refined
+            ]
+        )
+        ambiguity = np.array(
+            [
+                ambiguous_fraction(
                     X0[common],
                     mask[common],
                     labels[common],
                     noise,
-                    min_dim=min_dim,
-                    max_dim=subspace_dim + EXTRA_DIMENSIONS,
+                    subspace_dim=max(subspace_dim - AMBIGUITY_DIM_DROP, 1),
                 )
                 if np.unique(labels[common]).size > 1
+                and (
+                    selection in ("separability", "fitted_separability") or return_info
+                )
                 else np.nan
                 for labels in refined
             ]
         )
-    if selection == "fitted_separability":
-        # separable at the rigid motions' dimension and at the groups' own
-        chosen = select_segmentation(
-            lengths,
-            np.fmax(ambiguity, fitted),
-            selection="separability",
-            tolerance=AMBIGUITY_TOLERANCE,
+        consistency = np.full((len(refined), 2), np.nan)
+        if selection == "consistency" or return_info:
+            consistency = _consistency_scores(
+                X0,
+                mask,
+                refined,
+                cameras,
+                noise,
+                common=common,
+                judged=judged,
+                n_jobs=n_jobs,
+                subspace_dim=subspace_dim,
+                perspective_background=perspective_background,
+            )
+        fitted = np.full(len(refined), np.nan)
+        if selection == "fitted_separability":
+            min_dim = max(subspace_dim - AMBIGUITY_DIM_DROP, 1)
+            fitted = np.array(
+                [
+                    fitted_ambiguous_fraction(
+                        X0[common],
+                        mask[common],
+                        labels[common],
+                        noise,
+                        min_dim=min_dim,
+                        max_dim=subspace_dim + EXTRA_DIMENSIONS,
+                    )
+                    if np.unique(labels[common]).size > 1
+                    else np.nan
+                    for labels in refined
+                ]
+            )
+        if selection == "fitted_separability":
+            # separable at the rigid motions' dimension and at the groups' own
+            chosen = select_segmentation(
+                lengths,
+                np.fmax(ambiguity, fitted),
+                selection="separability",
+                tolerance=AMBIGUITY_TOLERANCE,
+            )
+        elif selection == "consistency":
+            chosen = select_segmentation(
+                lengths,
+                ambiguity,
+                selection="consistency",
+                tolerance=CONSISTENCY_TOLERANCE,
+                inconsistency=consistency[:, 0],
+                residual=consistency[:, 1],
+                misfit_cost=MISFIT_COST,
+                n_tracks=int(np.count_nonzero(common)),
+            )
+        else:
+            chosen = select_segmentation(
+                lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
+            )
+        return lengths, ambiguity, consistency, fitted, chosen
+
+    lengths, ambiguity, consistency, fitted, chosen = judge()
+    if (
+        isinstance(init, str)
+        and init == "all"
+        and n_motions > 1
+        and selection == "consistency"
+        and consistency[chosen, 0] > PEEL_INCONSISTENCY
+        and not any(name.startswith("subsample") for name in names)
+    ):
+        # the kept candidate leaves many tracks nearer another motion's model:
+        # the starts that peel the dominant motion off first join (they are
+        # not drawn every time: beside a correct candidate the consistency
+        # rule can prefer a wrong peeled one, see PEEL_INCONSISTENCY)
+        first = len(refined)
+        _add_peeled(
+            candidates,
+            n_motions,
+            (names, initial, refined, n_iters, cameras),
+            perspective_background=perspective_background,
+            n_jobs=n_jobs,
         )
-    elif selection == "consistency":
-        chosen = select_segmentation(
-            lengths,
-            ambiguity,
-            selection="consistency",
-            tolerance=CONSISTENCY_TOLERANCE,
-            inconsistency=consistency[:, 0],
-            residual=consistency[:, 1],
-            misfit_cost=MISFIT_COST,
-            n_tracks=int(np.count_nonzero(common)),
-        )
-    else:
-        chosen = select_segmentation(
-            lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
-        )
+        if len(refined) > first:
+            lengths, ambiguity, consistency, fitted, chosen = judge()
     labels = refined[chosen]
     _log.info(
         "%d tracks: %d candidates judged (selection=%r) in %.1f s, kept %r",

@@ -12,6 +12,7 @@ from sklearn_gpca._peel_starts import (
     peel_background,
     peel_candidates,
 )
+from sklearn_gpca._segment import PEEL_INCONSISTENCY
 from sklearn_gpca.datasets import make_motions, make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
@@ -131,3 +132,38 @@ def test_peel_background_bad_inputs(kwargs, match):
     threshold, dim = args.pop("threshold"), args.pop("dim")
     with pytest.raises(ValueError, match=match):
         peel_background(**args, threshold=threshold, dim=dim)
+
+
+def _lab_draw(seed):
+    # the setting "lab, 3 motions" of benchmarks/bench_segment.py
+    X, y = make_tracks(
+        scene="lab", n_motions=3, n_frames=30, missing=0.3, random_state=seed
+    )
+    return X[y >= 0], y[y >= 0]
+
+
+def test_default_draws_peeled_starts_when_its_choice_is_inconsistent():
+    # seed 83: every candidate of init="all" merges two motions (the "votes"
+    # one, kept, errs on 17 % of the tracks and leaves 12 % of them nearer
+    # another motion's model); the peeled starts then join and one is kept
+    X, y = _lab_draw(83)
+    labels, info = segment_motions(
+        X, 3, random_state=0, screen_outliers=False, return_info=True
+    )
+    peeled = [name.startswith("peel ") for name in info.candidates]
+    assert any(peeled) and peeled[info.chosen]
+    first = [k for k, p in enumerate(peeled) if not p]
+    assert min(info.inconsistency[first]) > PEEL_INCONSISTENCY
+    assert misclassification_rate(y, labels) < 0.05
+
+
+def test_default_draws_no_peeled_start_beside_a_consistent_choice():
+    # seed 3: the kept candidate is consistent (under 1 % of the tracks nearer
+    # another model): no peeled start is drawn
+    X, y = _lab_draw(3)
+    labels, info = segment_motions(
+        X, 3, random_state=0, screen_outliers=False, return_info=True
+    )
+    assert not any(name.startswith("peel") for name in info.candidates)
+    assert info.inconsistency[info.chosen] <= PEEL_INCONSISTENCY
+    assert misclassification_rate(y, labels) < 0.02
