@@ -1456,6 +1456,12 @@ def _segment_tracks(
         # the starts that peel the dominant motion off first join (they are
         # not drawn every time: beside a correct candidate the consistency
         # rule can prefer a wrong peeled one, see PEEL_INCONSISTENCY)
+        _log.info(
+            "%d tracks: the kept candidate leaves %.1f %% of the tracks nearer "
+            "another motion's model: the peeled starts are drawn",
+            X0.shape[0],
+            100 * consistency[chosen, 0],
+        )
         first = len(refined)
         _add_peeled(
             candidates,

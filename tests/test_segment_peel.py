@@ -2,6 +2,8 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import logging
+
 import numpy as np
 import pytest
 
@@ -142,14 +144,16 @@ def _lab_draw(seed):
     return X[y >= 0], y[y >= 0]
 
 
-def test_default_draws_peeled_starts_when_its_choice_is_inconsistent():
+def test_default_draws_peeled_starts_when_its_choice_is_inconsistent(caplog):
     # seed 83: every candidate of init="all" merges two motions (the "votes"
     # one, kept, errs on 17 % of the tracks and leaves 12 % of them nearer
     # another motion's model); the peeled starts then join and one is kept
     X, y = _lab_draw(83)
-    labels, info = segment_motions(
-        X, 3, random_state=0, screen_outliers=False, return_info=True
-    )
+    with caplog.at_level(logging.INFO, logger="sklearn_gpca"):
+        labels, info = segment_motions(
+            X, 3, random_state=0, screen_outliers=False, return_info=True
+        )
+    assert any("peeled starts are drawn" in r.getMessage() for r in caplog.records)
     peeled = [name.startswith("peel ") for name in info.candidates]
     assert any(peeled) and peeled[info.chosen]
     first = [k for k, p in enumerate(peeled) if not p]
