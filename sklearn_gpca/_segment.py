@@ -136,6 +136,9 @@ AMBIGUITY_DIM_DROP = 1
 #: judged beside the others. Drawn every time they cost 1.5-1.8 times the time
 #: and the consistency rule preferred wrong peeled candidates on Hopkins155
 #: (three motions 1.81 -> 2.84 %); there the kept candidate is consistent.
+#: Not tuned: set before any benchmark page, between the shares of three such
+#: Hopkins155 sequences (0-3 %) and of three ``make_tracks`` draws whose kept
+#: candidate erred by 17-39 % (10-13 %); ``history_tracker_output.md``.
 PEEL_INCONSISTENCY = 0.05
 #: Most merge/split moves kept per motion (each round refines every move).
 MAX_MOVES_PER_MOTION = 1
