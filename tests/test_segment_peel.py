@@ -70,15 +70,20 @@ def test_pure_fragments_peel_to_the_truth(seed, missing):
     assert np.all(labels[y == np.argmax(np.bincount(y))] == 0)
 
 
+def _lab_draw(seed):
+    # the setting "lab, 3 motions" of benchmarks/bench_segment.py
+    X, y = make_tracks(
+        scene="lab", n_motions=3, n_frames=30, missing=0.3, random_state=seed
+    )
+    return X[y >= 0], y[y >= 0]
+
+
 def test_peel_finds_a_start_the_fragments_route_misses():
     # make_tracks lab scene, 3 motions, 30 frames, 30 % missing, seed 3 (the
     # setting "lab, 3 motions" of benchmarks/bench_segment.py): the fragments
     # route's start refines to 23 % (background and an object merged, the
     # other object cut), a peeled start to the truth's basin (0.7 %)
-    X, y = make_tracks(
-        scene="lab", n_motions=3, n_frames=30, missing=0.3, random_state=3
-    )
-    X, y = X[y >= 0], y[y >= 0]
+    X, y = _lab_draw(3)
     # the starts alone: no outlier screening, which also mends this draw
     kwargs = dict(random_state=0, screen_outliers=False)
     old = segment_motions(X, 3, init="fragments", **kwargs)
@@ -134,14 +139,6 @@ def test_peel_background_bad_inputs(kwargs, match):
     threshold, dim = args.pop("threshold"), args.pop("dim")
     with pytest.raises(ValueError, match=match):
         peel_background(**args, threshold=threshold, dim=dim)
-
-
-def _lab_draw(seed):
-    # the setting "lab, 3 motions" of benchmarks/bench_segment.py
-    X, y = make_tracks(
-        scene="lab", n_motions=3, n_frames=30, missing=0.3, random_state=seed
-    )
-    return X[y >= 0], y[y >= 0]
 
 
 def test_default_draws_peeled_starts_when_its_choice_is_inconsistent(caplog):
