@@ -455,6 +455,26 @@ def track_graph(X0, mask, n_neighbors, *, random_state):
     return neighbors, noise, affinity, weights
 
 
+def _consistency_choice(scores, n_tracks):
+    """The candidate the consistency rule keeps.
+
+    ``scores`` holds one (inconsistency, residual) row per candidate, as
+    :func:`_consistency_scores` returns them, on ``n_tracks`` tracks. The rule
+    does not read the coding lengths or the ambiguity.
+    """
+    unused = np.zeros(len(scores))
+    return select_segmentation(
+        unused,
+        unused,
+        selection="consistency",
+        tolerance=CONSISTENCY_TOLERANCE,
+        inconsistency=scores[:, 0],
+        residual=scores[:, 1],
+        misfit_cost=MISFIT_COST,
+        n_tracks=n_tracks,
+    )
+
+
 def _merge_split(
     X0,
     mask,
@@ -547,17 +567,7 @@ def _merge_split(
             subspace_dim=subspace_dim,
             perspective_background=perspective_background,
         )
-        # the consistency rule does not read the coding lengths
-        chosen = select_segmentation(
-            np.zeros(len(segmentations)),
-            np.zeros(len(segmentations)),
-            selection="consistency",
-            tolerance=CONSISTENCY_TOLERANCE,
-            inconsistency=scores[:, 0],
-            residual=scores[:, 1],
-            misfit_cost=MISFIT_COST,
-            n_tracks=int(np.count_nonzero(common)),
-        )
+        chosen = _consistency_choice(scores, int(np.count_nonzero(common)))
         if chosen and not significantly_better(
             tracks[0],
             tracks[chosen],
@@ -1430,16 +1440,7 @@ def _segment_tracks(
                 tolerance=AMBIGUITY_TOLERANCE,
             )
         elif selection == "consistency":
-            chosen = select_segmentation(
-                lengths,
-                ambiguity,
-                selection="consistency",
-                tolerance=CONSISTENCY_TOLERANCE,
-                inconsistency=consistency[:, 0],
-                residual=consistency[:, 1],
-                misfit_cost=MISFIT_COST,
-                n_tracks=int(np.count_nonzero(common)),
-            )
+            chosen = _consistency_choice(consistency, int(np.count_nonzero(common)))
         else:
             chosen = select_segmentation(
                 lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
