@@ -440,11 +440,21 @@ def _sequential_fit(X0, mask, points, seen):
     return _alternate(cameras, world, points, seen, FINAL_ITERATIONS, fit_rows)
 
 
+def supported_frames(mask):
+    """Frames seen by ``MIN_CAMERA_POINTS`` tracks seen in two frames or more.
+
+    The frames whose cameras :func:`fit_projective_motion` determines, from
+    the observed entries ``mask`` of shape (n_tracks, 2 * n_frames).
+    """
+    seen = mask[:, 0::2] & mask[:, 1::2]
+    informative = np.count_nonzero(seen, axis=1) >= 2
+    return np.count_nonzero(seen[informative], axis=0) >= MIN_CAMERA_POINTS
+
+
 def _fit(X0, mask, cameras):
     """:func:`fit_projective_motion` on coordinates of order 1."""
     points, seen = track_frames(X0, mask)
-    informative = np.count_nonzero(seen, axis=1) >= 2
-    supported = np.count_nonzero(seen[informative], axis=0) >= MIN_CAMERA_POINTS
+    supported = supported_frames(mask)
     if cameras is None:
         # frames added forwards and backwards from the first and the last
         # well-seen frames; the fit that leaves the fewer tracks far from it

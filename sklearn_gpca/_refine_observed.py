@@ -288,13 +288,19 @@ def _refine(
     max_iter,
     excluded,
     random_state,
+    perspective_cameras=None,
 ):
     """Smoothed K-subspaces; ``excluded`` tracks are labelled but fit nothing.
 
-    A cluster of dimension 0 in ``dims`` is modelled by a perspective camera.
+    A cluster of dimension 0 in ``dims`` is modelled by a perspective camera,
+    fitted in the first round from ``perspective_cameras`` (None: from
+    scratch).
     """
     labels = np.asarray(labels, dtype=np.intp).copy()
     models = [None] * n_clusters
+    if perspective_cameras is not None:
+        for k in np.flatnonzero(dims == 0):
+            models[k] = ("projective", perspective_cameras, None)
     previous = None
     converged = False
     n_iter = 0
@@ -334,6 +340,7 @@ def refine_observed(
     max_iter=30,
     outlier_threshold=None,
     perspective_cluster=None,
+    perspective_cameras=None,
     random_state,
 ):
     """Smoothed K-subspaces on observed entries, from initial labels.
@@ -380,6 +387,10 @@ def refine_observed(
         frames, as for a 4-D subspace. Its entries of the returned ``bases``
         and ``supports`` are the cameras ``(n_frames, 3, 4)`` and the
         supported frames.
+    perspective_cameras : ndarray of shape (n_frames, 3, 4), default=None
+        Start of the perspective cluster's cameras in the first round (a few
+        alternations from them, :func:`fit_projective_motion`'s ``cameras``);
+        None fits them from scratch, frame by frame.
     random_state : RandomState instance
         Reseeds a cluster too small to fit its subspace.
 
@@ -409,6 +420,7 @@ def refine_observed(
         per_cluster=per_cluster,
         max_iter=max_iter,
         random_state=random_state,
+        perspective_cameras=perspective_cameras,
     )
     labels, bases, supports, n_iter, converged = _refine(
         X0, mask, labels, n_clusters, excluded=excluded, **kwargs

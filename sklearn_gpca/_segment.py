@@ -93,14 +93,23 @@ from sklearn_gpca._observed_subspaces import (
 )
 from sklearn_gpca._outliers import screened_segmentation
 from sklearn_gpca._peel_starts import peel_candidates
-from sklearn_gpca._projective_motion import rescaled_cameras
-from sklearn_gpca._refine_observed import refine_observed, refinement_objective
+from sklearn_gpca._projective_motion import (
+    fit_projective_motion,
+    rescaled_cameras,
+    supported_frames,
+)
+from sklearn_gpca._refine_observed import (
+    MIN_PROJECTIVE_TRACKS,
+    refine_observed,
+    refinement_objective,
+)
 from sklearn_gpca._reseed_motions import reseed_empty_motions
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
     coding_length,
     select_segmentation,
 )
+from sklearn_gpca._threads import one_thread
 from sklearn_gpca._track_neighbors import track_neighbors
 from sklearn_gpca._validation import Count
 
@@ -131,6 +140,11 @@ SCREEN_THRESHOLD = 1e-3
 #: The ambiguity is measured with subspaces this much smaller than the
 #: motions' (``subspace_dim``), see ``segment_motions``.
 AMBIGUITY_DIM_DROP = 1
+#: A start whose largest motion differs from the tracks most starts put in
+#: theirs by at most this share of its size starts its perspective refinement
+#: from their fit (``_consensus_cameras``). Set once by reasoning (a start
+#: that agrees with the others up to a few tracks), not swept.
+CONSENSUS_DIFFERENCE = 0.1
 #: Above this share of inconsistent tracks (nearer another motion's model)
 #: in the candidate ``init="all"`` keeps, the peeled starts are drawn too and
 #: judged beside the others. Drawn every time they cost 1.5-1.8 times the time
@@ -881,7 +895,11 @@ def segment_motions(
         default ``selection``): seeds 0-3 6.67 % against 12.17 % without,
         seeds 20-23 5.84 % against 11.10 % (hand-held scenes, seeds
         0-3: 2.2 against 15.0 % at 40 frames, 6.4 against 23.3 % at 100);
-        about 2.8 times the time. False: the subspace candidates only.
+        about 2.8 times the time. The background's cameras are fitted
+        from scratch once, on the tracks most starts put in their largest
+        motion, and the refinement of every start that agrees with them
+        starts from that fit.
+        False: the subspace candidates only.
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
     n_jobs : int or None, default=None
@@ -1025,8 +1043,12 @@ class _Refiner:
         self.affinity, self.noise = affinity, noise
         self.refine_kwargs = refine_kwargs
 
-    def once(self, start, perspective, rng=None):
-        """One refinement of ``start``: labels, rounds, background cameras."""
+    def once(self, start, perspective, rng=None, cameras=None):
+        """One refinement of ``start``: labels, rounds, background cameras.
+
+        ``cameras`` starts the background's perspective cameras (None: fitted
+        from scratch).
+        """
         n_motions = self.n_motions
         # outliers of a previous refinement start in the largest motion (the
         # background), which the perspective camera models
@@ -1038,11 +1060,12 @@ class _Refiner:
             np.where(start >= 0, start, background),
             n_motions,
             perspective_cluster=background if perspective else None,
+            perspective_cameras=cameras if perspective else None,
             **(kwargs if rng is None else kwargs | {"random_state": rng}),
         )
         return labels, n_iter, models[background] if perspective else None
 
-    def __call__(self, start, perspective=False):
+    def __call__(self, start, perspective=False, cameras=None):
         """Refine ``start``; re-seed the motions that empties, refine again.
 
         Each refinement draws from its own copy of the random state (only to
@@ -1050,7 +1073,8 @@ class _Refiner:
         of the candidates are independent and may run in parallel.
         """
         rng = copy.deepcopy(self.refine_kwargs["random_state"])
-        labels, n_iter, cameras = self.once(start, perspective, rng)
+        start_cameras = cameras
+        labels, n_iter, cameras = self.once(start, perspective, rng, start_cameras)
         reseeded = reseed_empty_motions(
             self.X0,
             self.mask,
@@ -1064,9 +1088,60 @@ class _Refiner:
             random_state=rng,
         )
         if reseeded is not None:
-            labels, rounds, cameras = self.once(reseeded, perspective, rng)
+            labels, rounds, cameras = self.once(
+                reseeded, perspective, rng, start_cameras
+            )
             n_iter += rounds
         return labels, n_iter, cameras
+
+
+def _consensus_cameras(refiner, starts):
+    """A start of the background's perspective cameras for each start, or None.
+
+    The background of tracker output is most of the tracks, and most starts
+    agree on it: one fit from scratch on the tracks that at least half of
+    the starts put in their largest motion starts the perspective refinement
+    (a few alternations) of every start whose largest motion differs from
+    those tracks by at most ``CONSENSUS_DIFFERENCE`` of its size, in place
+    of one fit from scratch per start (frame by frame, the larger part of a
+    refinement's time). The other starts (a largest motion that mixes two
+    motions, or the other motion of two of about the same size) fit from
+    scratch, as does every start when those tracks are too few to fit
+    (``MIN_PROJECTIVE_TRACKS``) or leave a frame unseen that an agreeing
+    start's largest motion sees.
+    """
+    starts = list(starts)
+    largest = [
+        start == np.argmax(np.bincount(start[start >= 0], minlength=refiner.n_motions))
+        for start in starts
+    ]
+    none = [None] * len(starts)
+    if not starts:
+        return none
+    consensus = 2 * np.sum(largest, axis=0) >= len(starts)
+    agree = [
+        np.count_nonzero(mine ^ consensus) <= CONSENSUS_DIFFERENCE * np.sum(mine)
+        for mine in largest
+    ]
+    if np.count_nonzero(consensus) < MIN_PROJECTIVE_TRACKS or not any(agree):
+        return none
+    union = np.logical_or.reduce(
+        [mine for mine, a in zip(largest, agree, strict=True) if a]
+    )
+    supported = supported_frames(refiner.mask[consensus])
+    if np.any(supported_frames(refiner.mask[union]) & ~supported):
+        return none
+    # one thread, as the refinements it starts run (:func:`map_jobs`)
+    with one_thread("blas"), one_thread("openmp"):
+        X0, mask = refiner.X0[consensus], refiner.mask[consensus]
+        cameras = fit_projective_motion(X0, mask)[0]
+    return [cameras if a else None for a in agree]
+
+
+def _refine_with_perspective(refiner, item):
+    """``refiner(start, perspective=True, cameras=cameras)`` of ``item``."""
+    start, cameras = item
+    return refiner(start, perspective=True, cameras=cameras)
 
 
 def _add_perspective_background(
@@ -1089,7 +1164,15 @@ def _add_perspective_background(
     done = dict(
         zip(
             starts,
-            map_jobs(partial(refiner, perspective=True), starts.values(), n_jobs),
+            map_jobs(
+                partial(_refine_with_perspective, refiner),
+                zip(
+                    starts.values(),
+                    _consensus_cameras(refiner, starts.values()),
+                    strict=True,
+                ),
+                n_jobs,
+            ),
             strict=True,
         )
     )
