@@ -1031,6 +1031,11 @@ def _scaled_tracks(X):
     return X0 / scale, mask, scale
 
 
+def _largest_motion(labels, n_motions):
+    """The motion with the most tracks in ``labels`` (``-1``: none)."""
+    return int(np.argmax(np.bincount(labels[labels >= 0], minlength=n_motions)))
+
+
 class _Refiner:
     """The candidates' refinement on one set of tracks.
 
@@ -1052,7 +1057,7 @@ class _Refiner:
         n_motions = self.n_motions
         # outliers of a previous refinement start in the largest motion (the
         # background), which the perspective camera models
-        background = int(np.argmax(np.bincount(start[start >= 0], minlength=n_motions)))
+        background = _largest_motion(start, n_motions)
         kwargs = self.refine_kwargs
         labels, models, _, n_iter, _ = refine_observed(
             self.X0,
@@ -1073,8 +1078,7 @@ class _Refiner:
         of the candidates are independent and may run in parallel.
         """
         rng = copy.deepcopy(self.refine_kwargs["random_state"])
-        start_cameras = cameras
-        labels, n_iter, cameras = self.once(start, perspective, rng, start_cameras)
+        labels, n_iter, fitted = self.once(start, perspective, rng, cameras)
         reseeded = reseed_empty_motions(
             self.X0,
             self.mask,
@@ -1088,11 +1092,9 @@ class _Refiner:
             random_state=rng,
         )
         if reseeded is not None:
-            labels, rounds, cameras = self.once(
-                reseeded, perspective, rng, start_cameras
-            )
+            labels, rounds, fitted = self.once(reseeded, perspective, rng, cameras)
             n_iter += rounds
-        return labels, n_iter, cameras
+        return labels, n_iter, fitted
 
 
 def _consensus_cameras(refiner, starts):
@@ -1111,10 +1113,7 @@ def _consensus_cameras(refiner, starts):
     start's largest motion sees.
     """
     starts = list(starts)
-    largest = [
-        start == np.argmax(np.bincount(start[start >= 0], minlength=refiner.n_motions))
-        for start in starts
-    ]
+    largest = [start == _largest_motion(start, refiner.n_motions) for start in starts]
     none = [None] * len(starts)
     if not starts:
         return none
