@@ -49,6 +49,9 @@ STEP_WINDOW = 10
 FINAL_ITERATIONS = 20
 #: Alternations of a fit started from given cameras.
 WARM_ITERATIONS = 10
+#: Relative decrease of the reprojection error below which the alternations
+#: stop before their number above.
+CONVERGED = 1e-4
 #: RMS of the coordinates taken as they are; outside, they are rescaled.
 ORDER_ONE = (2.0**-4, 2.0**4)
 # Tracks per chunk of the batched steps: their (tracks, 2 F, 4) temporaries
@@ -161,8 +164,9 @@ def _point_costs(cameras, world, points, seen):
     u = _projections(cameras, world)
     depth = _safe(u[..., 2])
     xy = u[..., :2] / depth[..., None]
-    error = (xy - points) * seen[..., None]
-    return np.sum(error**2, axis=(1, 2)), error, xy, depth
+    error = xy - points
+    error *= seen[..., None]
+    return np.einsum("pfc,pfc->p", error, error), error, xy, depth
 
 
 def _state(cameras, world, points, seen):
@@ -298,7 +302,7 @@ def _resection_step(cameras, world, points, seen, damping, fit_rows=None, state=
     cost = np.zeros(n_frames)
     for chunk in row_chunks(fit_index.size, _CHUNK):
         rows = fit_index[chunk]
-        cost += np.sum(error[rows] ** 2, axis=(0, 2))
+        cost += np.einsum("pfc,pfc->f", error[rows], error[rows])
         chunk_gram, chunk_rhs = _camera_normal_equations(
             world[rows], error[rows], xy[rows], depth[rows], seen[rows]
         )
@@ -309,7 +313,8 @@ def _resection_step(cameras, world, points, seen, damping, fit_rows=None, state=
     trial_error, trial_xy, trial_depth = _state(trial, world, points, seen)
     trial_cost = np.zeros(n_frames)
     for chunk in row_chunks(fit_index.size, _CHUNK):
-        trial_cost += np.sum(trial_error[fit_index[chunk]] ** 2, axis=(0, 2))
+        part = trial_error[fit_index[chunk]]
+        trial_cost += np.einsum("pfc,pfc->f", part, part)
     better, damping = _accept(cost, trial_cost, damping)
     better &= np.count_nonzero(seen[fit_rows], axis=0) >= MIN_CAMERA_POINTS
     state = (
@@ -321,10 +326,16 @@ def _resection_step(cameras, world, points, seen, damping, fit_rows=None, state=
 
 
 def _alternate(cameras, world, points, seen, n_iter, fit_rows):
-    """``n_iter`` intersection and resection steps (``fit_rows`` resect)."""
+    """At most ``n_iter`` intersection and resection steps (``fit_rows`` resect).
+
+    Stops early once an alternation lowers the reprojection error of the
+    ``fit_rows`` tracks by less than ``CONVERGED`` of it: the later ones
+    would move the cameras by less than the noise moves them.
+    """
     point_damping = np.full(world.shape[0], START_DAMPING)
     camera_damping = np.full(cameras.shape[0], START_DAMPING)
-    state = None
+    state = _state(cameras, world, points, seen)
+    cost = _fit_cost(state[0], fit_rows)
     for _ in range(n_iter):
         world, point_damping, state = _intersection_step(
             cameras, world, points, seen, point_damping, state
@@ -332,7 +343,16 @@ def _alternate(cameras, world, points, seen, n_iter, fit_rows):
         cameras, camera_damping, state = _resection_step(
             cameras, world, points, seen, camera_damping, fit_rows, state
         )
+        new_cost = _fit_cost(state[0], fit_rows)
+        if cost - new_cost <= CONVERGED * cost:
+            break
+        cost = new_cost
     return cameras, world
+
+
+def _fit_cost(error, fit_rows):
+    """Reprojection error of the ``fit_rows`` tracks (``error`` of :func:`_state`)."""
+    return float(np.einsum("pfc,pfc->", error[fit_rows], error[fit_rows]))
 
 
 def affine_cameras(X0, mask):

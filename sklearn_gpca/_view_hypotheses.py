@@ -27,8 +27,8 @@ so that small motions get as many pure hypotheses as the dominant one.
 
 import numpy as np
 from scipy import sparse
-from sklearn.neighbors import NearestNeighbors
 
+from sklearn_gpca._affinity import _kneighbors
 from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._memory import chunk_rows
 from sklearn_gpca._two_view import (
@@ -102,10 +102,9 @@ def local_samples(positions, size, n_samples, n_neighbors, rng):
     seeds = rng.randint(n_points, size=n_samples)
     if size == 1:
         return seeds[:, None]
-    nn = NearestNeighbors(n_neighbors=n_neighbors + 1).fit(positions)
     # The query point is its own first neighbour unless duplicates precede it:
     # drop the seed wherever it appears, keep n_neighbors others.
-    neighbors = nn.kneighbors(positions[seeds], return_distance=False)
+    neighbors = _kneighbors(positions, positions[seeds], n_neighbors + 1, None)[1]
     not_seed = neighbors != seeds[:, None]
     order = np.argsort(~not_seed, axis=1, kind="stable")[:, :n_neighbors]
     neighbors = np.take_along_axis(neighbors, order, axis=1)
