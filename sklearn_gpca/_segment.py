@@ -192,6 +192,16 @@ def _check_tracks(X, n_motions):
         )
     if np.isinf(X).any():
         raise ValueError("X contains infinite values; use NaN for missing entries.")
+    if n_features > 2 and n_motions > 1:
+        seen = ~np.isnan(X[:, 0::2]) & ~np.isnan(X[:, 1::2])
+        if not np.any(np.count_nonzero(seen, axis=1) >= 2):
+            warnings.warn(
+                "No track of X is seen in two frames: one position per track "
+                "shows no motion, so the tracks are grouped by position only; "
+                "give tracks seen in at least two frames.",
+                UserWarning,
+                stacklevel=3,
+            )
     empty = np.flatnonzero(np.isnan(X).all(axis=1))
     if empty.size:
         raise ValueError(
@@ -956,11 +966,12 @@ def segment_motions(
     Warns
     -----
     UserWarning
-        When ``X`` holds a single frame (two columns) and ``n_motions > 1``:
-        one position per track shows no motion, so the tracks can only be
-        grouped by position. When some of the ``n_motions`` labels are not
-        used (e.g. identical tracks); the labels are returned as found, as
-        :class:`~sklearn.cluster.KMeans` does.
+        When ``X`` holds a single frame (two columns), or no track is seen
+        in two frames, and ``n_motions > 1``: one position per track shows
+        no motion, so the tracks can only be grouped by position. When some
+        of the ``n_motions`` labels are not used (e.g. identical tracks); the
+        labels are returned as found, as :class:`~sklearn.cluster.KMeans`
+        does.
 
     Notes
     -----

@@ -2,6 +2,8 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -254,6 +256,22 @@ def test_segment_motions_warns_on_a_single_frame():
     X = np.random.default_rng(0).normal(size=(20, 2))
     with pytest.warns(UserWarning, match="single frame"):
         segment_motions(X, 2, random_state=0)
+
+
+def test_segment_motions_warns_when_no_track_spans_two_frames():
+    # every track seen in one frame of ten: no motion to segment
+    X = np.full((30, 20), np.nan)
+    rows = np.arange(30)
+    X[rows, 2 * (rows % 10)] = np.random.default_rng(0).normal(size=30)
+    X[rows, 2 * (rows % 10) + 1] = np.random.default_rng(1).normal(size=30)
+    with pytest.warns(UserWarning, match="No track of X is seen in two frames"):
+        segment_motions(X, 2, random_state=0)
+    # one track seen twice is enough to say nothing
+    X[0, 2:4] = 0.5
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        segment_motions(X, 2, random_state=0)
+    assert not [w for w in caught if "two frames" in str(w.message)]
 
 
 @pytest.mark.parametrize(
