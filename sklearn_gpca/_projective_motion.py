@@ -331,8 +331,8 @@ def _alternate(cameras, world, points, seen, n_iter, fit_rows):
     """At most ``n_iter`` intersection and resection steps (``fit_rows`` resect).
 
     Stops early once an alternation lowers the reprojection error of the
-    ``fit_rows`` tracks by less than ``CONVERGED`` of it: the later ones
-    would move the cameras by less than the noise moves them.
+    ``fit_rows`` tracks by less than ``CONVERGED`` of it, far less than that
+    error's own spread under the noise.
     """
     point_damping = np.full(world.shape[0], START_DAMPING)
     camera_damping = np.full(cameras.shape[0], START_DAMPING)
