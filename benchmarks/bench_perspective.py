@@ -11,7 +11,8 @@ frames or more (KT3DMoSeg keeps those; the affine route needs 3 frames per
 track), and segments them with:
 
 - the affine route, the library's default pipeline
-  ``make_pipeline(PowerFactorization(), GPCAClustering(n, random_state=0))``;
+  ``make_pipeline(PowerFactorization(random_state=0), GPCAClustering(n,
+  random_state=0))``;
 - the affine oracle: each track to the nearest true rank-4 subspace on its
   observed entries (``sklearn_gpca.metrics.oracle_labels`` when the package
   has it, else the same definition below); it is given the true groups;
@@ -181,7 +182,7 @@ def _timed(fit_labels):
 
 def _affine_route(X, y, n_motions):
     pipe = make_pipeline(
-        PowerFactorization(), GPCAClustering(n_motions, random_state=0)
+        PowerFactorization(random_state=0), GPCAClustering(n_motions, random_state=0)
     )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
