@@ -304,9 +304,10 @@ def _resection_step(cameras, world, points, seen, damping, fit_rows=None, state=
     cost = np.zeros(n_frames)
     for chunk in row_chunks(fit_index.size, _CHUNK):
         rows = fit_index[chunk]
-        cost += np.einsum("pfc,pfc->f", error[rows], error[rows])
+        part = error[rows]
+        cost += np.einsum("pfc,pfc->f", part, part)
         chunk_gram, chunk_rhs = _camera_normal_equations(
-            world[rows], error[rows], xy[rows], depth[rows], seen[rows]
+            world[rows], part, xy[rows], depth[rows], seen[rows]
         )
         gram += chunk_gram
         rhs += chunk_rhs
@@ -354,7 +355,8 @@ def _alternate(cameras, world, points, seen, n_iter, fit_rows):
 
 def _fit_cost(error, fit_rows):
     """Reprojection error of the ``fit_rows`` tracks (``error`` of :func:`_state`)."""
-    return float(np.einsum("pfc,pfc->", error[fit_rows], error[fit_rows]))
+    part = error[fit_rows]
+    return float(np.einsum("pfc,pfc->", part, part))
 
 
 def affine_cameras(X0, mask):

@@ -112,6 +112,7 @@ from sklearn_gpca._segment_selection import (
 from sklearn_gpca._threads import one_thread
 from sklearn_gpca._track_neighbors import track_neighbors
 from sklearn_gpca._validation import Count
+from sklearn_gpca._view_hypotheses import observed_frames
 
 _log = logging.getLogger(__name__)
 
@@ -183,25 +184,20 @@ def _check_tracks(X, n_motions):
             "X must hold [x_1, y_1, ..., x_F, y_F] per row: an even number of "
             f"columns >= 2, got {n_features}."
         )
-    if n_features == 2 and n_motions > 1:
+    if np.isinf(X).any():
+        raise ValueError("X contains infinite values; use NaN for missing entries.")
+    if n_motions > 1 and not np.any(np.count_nonzero(observed_frames(X), axis=1) >= 2):
+        what = (
+            ("X holds a single frame", "at least two frames")
+            if n_features == 2
+            else ("No track of X is seen in two frames", "tracks seen in two frames")
+        )
         warnings.warn(
-            "X holds a single frame: one position per track shows no motion, so "
-            "the tracks are grouped by position only; give at least two frames.",
+            f"{what[0]}: one position per track shows no motion, so the tracks "
+            f"are grouped by position only; give {what[1]}.",
             UserWarning,
             stacklevel=3,
         )
-    if np.isinf(X).any():
-        raise ValueError("X contains infinite values; use NaN for missing entries.")
-    if n_features > 2 and n_motions > 1:
-        seen = ~np.isnan(X[:, 0::2]) & ~np.isnan(X[:, 1::2])
-        if not np.any(np.count_nonzero(seen, axis=1) >= 2):
-            warnings.warn(
-                "No track of X is seen in two frames: one position per track "
-                "shows no motion, so the tracks are grouped by position only; "
-                "give tracks seen in at least two frames.",
-                UserWarning,
-                stacklevel=3,
-            )
     empty = np.flatnonzero(np.isnan(X).all(axis=1))
     if empty.size:
         raise ValueError(
@@ -367,7 +363,6 @@ def votes_candidate(X, X0, mask, n_motions, models, *, random_state):
     Returns None when no view has enough co-visible tracks to vote.
     """
     from sklearn_gpca._perspective import perspective_clustering
-    from sklearn_gpca._view_hypotheses import observed_frames
 
     rows = observed_frames(X).sum(axis=1) >= 2
     if rows.sum() < max(10, 2 * n_motions):
