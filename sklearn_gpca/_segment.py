@@ -62,6 +62,7 @@ from functools import partial
 from numbers import Integral, Real
 
 import numpy as np
+from scipy import stats
 from sklearn.utils import Bunch, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
@@ -95,6 +96,7 @@ from sklearn_gpca._outliers import screened_segmentation
 from sklearn_gpca._peel_starts import peel_candidates
 from sklearn_gpca._projective_motion import (
     fit_projective_motion,
+    projective_residuals,
     rescaled_cameras,
     supported_frames,
 )
@@ -142,9 +144,10 @@ SCREEN_THRESHOLD = 1e-3
 #: motions' (``subspace_dim``), see ``segment_motions``.
 AMBIGUITY_DIM_DROP = 1
 #: A start whose largest motion differs from the tracks most starts put in
-#: theirs by at most this share of its size starts its perspective refinement
-#: from their fit (``_consensus_cameras``). Set once by reasoning (a start
-#: that agrees with the others up to a few tracks), not swept.
+#: theirs, or misfits their perspective cameras, by at most this share of its
+#: size starts its perspective refinement from those cameras
+#: (``_consensus_cameras``). Set once by reasoning (a start that agrees with
+#: the others up to a few tracks), not swept.
 CONSENSUS_DIFFERENCE = 0.1
 #: Above this share of inconsistent tracks (nearer another motion's model)
 #: in the candidate ``init="all"`` keeps, the peeled starts are drawn too and
@@ -1108,15 +1111,22 @@ def _consensus_cameras(refiner, starts):
 
     The background of tracker output is most of the tracks, and most starts
     agree on it: one fit from scratch on the tracks that at least half of
-    the starts put in their largest motion starts the perspective refinement
-    (a few alternations) of every start whose largest motion differs from
-    those tracks by at most ``CONSENSUS_DIFFERENCE`` of its size, in place
-    of one fit from scratch per start (frame by frame, the larger part of a
-    refinement's time). The other starts (a largest motion that mixes two
-    motions, or the other motion of two of about the same size) fit from
-    scratch, as does every start when those tracks are too few to fit
-    (``MIN_PROJECTIVE_TRACKS``) or leave a frame unseen that an agreeing
-    start's largest motion sees.
+    the starts put in their largest motion (the consensus) starts the
+    perspective refinement (a few alternations) of every start whose largest
+    motion those cameras explain, in place of one fit from scratch per start
+    (frame by frame, the larger part of a refinement's time). A largest
+    motion is explained when it differs from the consensus by at most
+    ``CONSENSUS_DIFFERENCE`` of its size, or when at most that share of its
+    tracks misfit the consensus cameras (a chi-square test of the
+    reprojection error at the refiner's noise, false-alarm probability
+    ``SCREEN_THRESHOLD``): a part of the background that the affine
+    refinement cut off by depth is explained, a largest motion that mixes
+    the background with another motion is not. It must also see no frame
+    that the consensus leaves unseen. The other starts fit from scratch, as
+    does every start when the consensus is too few tracks to fit
+    (``MIN_PROJECTIVE_TRACKS``) or no start's largest motion shares
+    ``1 - CONSENSUS_DIFFERENCE`` of its tracks with it (the fit would start
+    none).
     """
     starts = list(starts)
     largest = [start == _largest_motion(start, refiner.n_motions) for start in starts]
@@ -1124,23 +1134,40 @@ def _consensus_cameras(refiner, starts):
     if not starts:
         return none
     consensus = 2 * np.sum(largest, axis=0) >= len(starts)
-    agree = [
-        np.count_nonzero(mine ^ consensus) <= CONSENSUS_DIFFERENCE * np.sum(mine)
+    shared = [
+        np.count_nonzero(mine & consensus) >= (1 - CONSENSUS_DIFFERENCE) * np.sum(mine)
         for mine in largest
     ]
-    if np.count_nonzero(consensus) < MIN_PROJECTIVE_TRACKS or not any(agree):
+    if np.count_nonzero(consensus) < MIN_PROJECTIVE_TRACKS or not any(shared):
         return none
-    union = np.logical_or.reduce(
-        [mine for mine, a in zip(largest, agree, strict=True) if a]
-    )
-    supported = supported_frames(refiner.mask[consensus])
-    if np.any(supported_frames(refiner.mask[union]) & ~supported):
-        return none
+    X0, mask = refiner.X0, refiner.mask
+    supported = supported_frames(mask[consensus])
     # one thread, as the refinements it starts run (:func:`map_jobs`)
     with one_thread("blas"), one_thread("openmp"):
-        X0, mask = refiner.X0[consensus], refiner.mask[consensus]
-        cameras = fit_projective_motion(X0, mask)[0]
-    return [cameras if a else None for a in agree]
+        cameras = fit_projective_motion(X0[consensus], mask[consensus])[0]
+        explained = [
+            not np.any(supported_frames(mask[mine]) & ~supported)
+            and (
+                np.count_nonzero(mine ^ consensus)
+                <= CONSENSUS_DIFFERENCE * np.sum(mine)
+                or np.count_nonzero(
+                    _misfits(X0[mine], mask[mine], cameras, supported, refiner.noise)
+                )
+                <= CONSENSUS_DIFFERENCE * np.sum(mine)
+            )
+            for mine in largest
+        ]
+    return [cameras if e else None for e in explained]
+
+
+def _misfits(X0, mask, cameras, supported, noise):
+    """Tracks whose reprojection error to ``cameras`` fails the chi-square
+    test at variance ``noise`` per coordinate (``SCREEN_THRESHOLD``)."""
+    residuals, dofs = projective_residuals(X0, mask, cameras, supported)
+    testable = dofs > 0
+    bound = np.full(dofs.shape, np.inf)
+    bound[testable] = noise * stats.chi2.isf(SCREEN_THRESHOLD, dofs[testable])
+    return residuals > bound
 
 
 def _refine_with_perspective(refiner, item):
