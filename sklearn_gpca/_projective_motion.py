@@ -16,9 +16,9 @@ only, by minimising the reprojection error ``sum ||x_fp - pi(P_f X_p)||^2``
 over the seen point-frames with alternating Levenberg-Marquardt steps on the
 points (intersection) and on the cameras (resection), the frames added one at a
 time (sequential structure from motion), forwards and backwards, the better of
-the two kept and only it refined on all frames: started on all frames at once,
-a forward-moving camera often settles in a reconstruction that leaves a third
-of the tracks unfitted. Every step is batched over tracks or frames.
+the two fits kept: started on all frames at once, a forward-moving camera often
+settles in a reconstruction that leaves a third of the tracks unfitted. Every
+step is batched over tracks or frames.
 
 A track seen in ``m`` frames keeps ``2 m - 4`` residual degrees of freedom,
 counted as for a 4-D subspace (four parameters per track, where its point has
@@ -45,8 +45,7 @@ START_DAMPING = 1e-6
 STEP_ITERATIONS = 4
 #: Frames of that window.
 STEP_WINDOW = 10
-#: Most alternations on all frames at the end of the sequential fit (of the
-#: frame order kept).
+#: Most alternations on all frames at the end of the sequential fit.
 FINAL_ITERATIONS = 20
 #: Most alternations of a fit started from given cameras.
 WARM_ITERATIONS = 10
@@ -413,11 +412,7 @@ def _frame_orders(seen):
 
 
 def _sequential_fit(X0, mask, points, seen):
-    """Frames added one at a time, each camera resected from the points so far.
-
-    Returns the cameras and the tracks' points before the final alternations
-    on every frame (:func:`_fit` runs them on the better of two frame orders).
-    """
+    """Frames added one at a time, each camera resected from the points so far."""
     n_frames = seen.shape[1]
     first = min(3, n_frames)
     cameras = np.empty((n_frames, 3, 4))
@@ -465,7 +460,8 @@ def _sequential_fit(X0, mask, points, seen):
             STEP_ITERATIONS,
             fit_local,
         )
-    return cameras, world
+    fit_rows = np.count_nonzero(seen, axis=1) >= 3
+    return _alternate(cameras, world, points, seen, FINAL_ITERATIONS, fit_rows)
 
 
 def supported_frames(mask):
@@ -485,26 +481,23 @@ def _fit(X0, mask, cameras):
     supported = supported_frames(mask)
     if cameras is None:
         # frames added forwards and backwards from the first and the last
-        # well-seen frames; the order that leaves the fewer tracks far from
-        # its cameras is kept (either can settle badly), and only it runs
-        # the final alternations on every frame
+        # well-seen frames; the fit that leaves the fewer tracks far from it
+        # is kept (either order can settle badly)
         fits = []
         for order in _frame_orders(seen):
             columns = np.column_stack([2 * order, 2 * order + 1]).ravel()
-            fitted, world = _sequential_fit(
+            fitted, _ = _sequential_fit(
                 X0[:, columns], mask[:, columns], points[:, order], seen[:, order]
             )
             restored = np.empty_like(fitted)
             restored[order] = fitted
-            fits.append((restored, world))
-        spreads = [_misfit_quantile(c, X0, mask, supported) for c, _ in fits]
-        cameras, world = fits[int(np.argmin(spreads))]
-        n_iter = FINAL_ITERATIONS
+            fits.append(restored)
+        spreads = [_misfit_quantile(c, X0, mask, supported) for c in fits]
+        cameras = fits[int(np.argmin(spreads))]
     else:
         world = triangulate(cameras, points, seen)
-        n_iter = WARM_ITERATIONS
-    fit_rows = np.count_nonzero(seen, axis=1) >= 3
-    cameras, _ = _alternate(cameras, world, points, seen, n_iter, fit_rows)
+        fit_rows = np.count_nonzero(seen, axis=1) >= 3
+        cameras, _ = _alternate(cameras, world, points, seen, WARM_ITERATIONS, fit_rows)
     return cameras, supported
 
 

@@ -329,28 +329,3 @@ def test_alternations_stop_once_converged(monkeypatch):
     stopped = np.sum(projective_residuals(X0, mask, early, supported)[0])
     longer = np.sum(projective_residuals(X0, mask, full, supported)[0])
     assert stopped <= 1.001 * longer
-
-
-def test_fit_from_scratch_runs_the_final_alternations_on_one_frame_order(
-    monkeypatch,
-):
-    import sklearn_gpca._projective_motion as module
-
-    X, _ = _scene(noise=1e-3, seed=3)
-    X0, mask = observed_entries(X)
-    runs = []
-    original = module._alternate
-
-    def counted(cameras, world, points, seen, n_iter, fit_rows):
-        runs.append((cameras.shape[0], n_iter))
-        return original(cameras, world, points, seen, n_iter, fit_rows)
-
-    monkeypatch.setattr(module, "_alternate", counted)
-    cameras, supported = fit_projective_motion(X0, mask)
-    n_frames = mask.shape[1] // 2
-    # both frame orders are fitted frame by frame; the final alternations on
-    # every frame run once, on the order kept
-    assert runs.count((n_frames, module.FINAL_ITERATIONS)) == 1
-    assert runs[-1] == (n_frames, module.FINAL_ITERATIONS)
-    residuals, dofs = projective_residuals(X0, mask, cameras, supported)
-    assert np.median(residuals[dofs > 0] / dofs[dofs > 0]) < 1e-5
