@@ -1142,22 +1142,20 @@ def _consensus_cameras(refiner, starts):
         return none
     X0, mask = refiner.X0, refiner.mask
     supported = supported_frames(mask[consensus])
+
+    def explained(mine, cameras):
+        if np.any(supported_frames(mask[mine]) & ~supported):
+            return False
+        allowed = CONSENSUS_DIFFERENCE * np.sum(mine)
+        if np.count_nonzero(mine ^ consensus) <= allowed:
+            return True
+        misfits = _misfits(X0[mine], mask[mine], cameras, supported, refiner.noise)
+        return np.count_nonzero(misfits) <= allowed
+
     # one thread, as the refinements it starts run (:func:`map_jobs`)
     with one_thread("blas"), one_thread("openmp"):
         cameras = fit_projective_motion(X0[consensus], mask[consensus])[0]
-        explained = [
-            not np.any(supported_frames(mask[mine]) & ~supported)
-            and (
-                np.count_nonzero(mine ^ consensus)
-                <= CONSENSUS_DIFFERENCE * np.sum(mine)
-                or np.count_nonzero(
-                    _misfits(X0[mine], mask[mine], cameras, supported, refiner.noise)
-                )
-                <= CONSENSUS_DIFFERENCE * np.sum(mine)
-            )
-            for mine in largest
-        ]
-    return [cameras if e else None for e in explained]
+        return [cameras if explained(mine, cameras) else None for mine in largest]
 
 
 def _misfits(X0, mask, cameras, supported, noise):
