@@ -189,7 +189,8 @@ def _check_tracks(X, n_motions):
         )
     if np.isinf(X).any():
         raise ValueError("X contains infinite values; use NaN for missing entries.")
-    if n_motions > 1 and not np.any(np.count_nonzero(observed_frames(X), axis=1) >= 2):
+    frames_seen = np.count_nonzero(observed_frames(X), axis=1)
+    if n_motions > 1 and not np.any(frames_seen >= 2):
         what = (
             ("X holds a single frame", "at least two frames")
             if n_features == 2
@@ -198,6 +199,18 @@ def _check_tracks(X, n_motions):
         warnings.warn(
             f"{what[0]}: one position per track shows no motion, so the tracks "
             f"are grouped by position only; give {what[1]}.",
+            UserWarning,
+            stacklevel=3,
+        )
+    elif n_motions > 1 and not np.any(frames_seen >= 3):
+        # 4 coordinates leave no residual to a 4-D motion subspace: on
+        # make_tracks draws cut to 2 frames the error is 22-48 %, near chance
+        warnings.warn(
+            "No track of X is seen in three frames or more: a 4-D motion "
+            "subspace fits any track of two frames exactly, so the motions are "
+            "told apart by two-view displacements alone and the segmentation "
+            "may be little better than chance; give tracks seen in three "
+            "frames or more.",
             UserWarning,
             stacklevel=3,
         )

@@ -266,12 +266,33 @@ def test_segment_motions_warns_when_no_track_spans_two_frames():
     X[rows, 2 * (rows % 10) + 1] = np.random.default_rng(1).normal(size=30)
     with pytest.warns(UserWarning, match="No track of X is seen in two frames"):
         segment_motions(X, 2, random_state=0)
-    # one track seen twice is enough to say nothing
+    # one track seen twice silences it (the three-frame warning takes over)
     X[0, 2:4] = 0.5
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         segment_motions(X, 2, random_state=0)
-    assert not [w for w in caught if "two frames" in str(w.message)]
+    messages = [str(w.message) for w in caught]
+    assert not [m for m in messages if "seen in two frames" in m]
+    assert [m for m in messages if "seen in three frames or more" in m]
+
+
+def test_segment_motions_warns_when_no_track_spans_three_frames():
+    # two frames: every track fits every 4-D subspace, the labels are near
+    # chance (22-48 % error on make_tracks draws cut to two frames)
+    X, _ = make_tracks(scene="lab", n_frames=4, missing=0.0, random_state=0)[:2]
+    with pytest.warns(UserWarning, match="No track of X is seen in three frames"):
+        segment_motions(X[:, :4], 2, random_state=0)
+    # one track seen in three frames is enough to say nothing
+    X = X.copy()
+    X[1:, 4:] = np.nan
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        segment_motions(X, 2, random_state=0)
+    assert not [w for w in caught if "three frames" in str(w.message)]
+    # one motion: nothing to tell apart, no warning
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        segment_motions(X[:, :4], 1, random_state=0)
 
 
 @pytest.mark.parametrize(
