@@ -979,8 +979,11 @@ def segment_motions(
     UserWarning
         When ``X`` holds a single frame (two columns), or no track is seen
         in two frames, and ``n_motions > 1``: one position per track shows
-        no motion, so the tracks can only be grouped by position. When some
-        of the ``n_motions`` labels are not used (e.g. identical tracks); the
+        no motion, so the tracks can only be grouped by position. When no
+        track is seen in three frames or more and ``n_motions > 1``: a 4-D
+        motion subspace fits every track of two frames, and the labels may
+        be little better than chance (``benchmarks/results/short_sequences.md``).
+        When some of the ``n_motions`` labels are not used (e.g. identical tracks); the
         labels are returned as found, as :class:`~sklearn.cluster.KMeans`
         does.
 
