@@ -982,8 +982,9 @@ def segment_motions(
         no motion, so the tracks can only be grouped by position. When no
         track is seen in three frames or more and ``n_motions > 1``: a 4-D
         motion subspace fits every track of two frames, and the labels may
-        be little better than chance (``benchmarks/results/short_sequences.md``).
-        When some of the ``n_motions`` labels are not used (e.g. identical tracks); the
+        be little better than chance
+        (``benchmarks/results/short_sequences.md``). When some of the
+        ``n_motions`` labels are not used (e.g. identical tracks); the
         labels are returned as found, as :class:`~sklearn.cluster.KMeans`
         does.
 
