@@ -1,11 +1,14 @@
 """Every perspective fit of one ``segment_motions`` call: how many, and their time.
 
 Run from the project root, for the installed package or another revision's
-(``PYTHONPATH`` puts a copy first)::
+(``PYTHONPATH`` puts a copy first), with the default BLAS threads as users
+run it, and with ``OMP_NUM_THREADS=1`` for the figure beside it (the fits'
+share is clearer without the threads' noise)::
 
+    python benchmarks/count_perspective_fits.py
     OMP_NUM_THREADS=1 python benchmarks/count_perspective_fits.py
     mkdir /tmp/old && git archive REV sklearn_gpca | tar -x -C /tmp/old
-    OMP_NUM_THREADS=1 PYTHONPATH=/tmp/old python benchmarks/count_perspective_fits.py
+    PYTHONPATH=/tmp/old python benchmarks/count_perspective_fits.py
 
 Wraps ``fit_projective_motion`` where the refinement, the consensus cameras
 and the selection call it, and prints, per caller and per kind (*scratch*:
