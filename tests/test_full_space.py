@@ -82,7 +82,8 @@ def test_points_of_other_tracks():
         refine_full_space(X, np.zeros(40, dtype=int), X[:30])
 
 
-def test_reassign_without_anchor_from_the_truth_is_the_oracle(motions):
+def test_reassign_without_anchor_from_the_truth_is_the_oracle(motions, monkeypatch):
+    from sklearn_gpca.metrics import _oracle
     from sklearn_gpca.stages import reassign_full_space
 
     X, y, _ = motions
@@ -91,8 +92,16 @@ def test_reassign_without_anchor_from_the_truth_is_the_oracle(motions):
     labels, bases = reassign_full_space(
         X, y, anchor=0.0, n_trim=0, max_fit_samples=None, random_state=0
     )
-    np.testing.assert_array_equal(labels, oracle_labels(X, y))
     assert len(bases) == 3
+    # the oracle fits to convergence, the stage by 30 alternations
+    assert np.mean(labels != oracle_labels(X, y)) < 0.01
+    fit = _oracle.fit_observed_subspace
+    monkeypatch.setattr(
+        _oracle,
+        "fit_observed_subspace",
+        lambda *args, **kwargs: fit(*args, **{**kwargs, "polish": False}),
+    )
+    np.testing.assert_array_equal(labels, oracle_labels(X, y))
 
 
 def test_reassign_with_a_large_anchor_keeps_the_start(motions):

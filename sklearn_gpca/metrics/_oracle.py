@@ -48,8 +48,9 @@ def oracle_labels(X, y_true, subspace_dim=4, *, perspective_background=False):
     """Each track to the nearest true motion subspace, on its observed entries.
 
     One linear subspace of dimension ``subspace_dim`` of ``R^{2F}`` is fitted
-    to the observed entries of each true group (alternating least squares,
-    see Notes), and every track is assigned to the subspace with the smallest
+    to the observed entries of each true group (the least-squares optimum:
+    alternating least squares, then variable projection, see Notes), and
+    every track is assigned to the subspace with the smallest
     mean squared residual per residual degree of freedom on the track's own
     observed entries. Its misclassification rate measures how separable the
     motions are under the subspace model when the groups are known: a
@@ -87,7 +88,12 @@ def oracle_labels(X, y_true, subspace_dim=4, *, perspective_background=False):
     ||x_O - (B_k)_O z||^2`` to subspace ``k`` with basis ``B_k`` and ``|O| -
     d`` residual degrees of freedom; it goes to ``argmin_k r_k / (|O| - d)``.
     Coordinates observed by fewer than ``d`` tracks of a group are left out
-    of that group's subspace.
+    of that group's subspace. The subspaces are fitted to convergence
+    (``fit_observed_subspace(..., polish=True)``): with many entries
+    missing, 30 alternations alone can leave a true motion's residual several
+    times its least value and the oracle needlessly weak (driving draws of
+    ``make_tracks``, seeds 0-3: 7.7 % with 30 alternations, 4.3 % at the
+    optimum; ``benchmarks/results/subspace_convergence.md``).
 
     Examples
     --------
@@ -117,7 +123,9 @@ def oracle_labels(X, y_true, subspace_dim=4, *, perspective_background=False):
                 X0[inliers], mask[inliers], cameras, supported
             )
             continue
-        basis, support = fit_observed_subspace(X0[members], mask[members], subspace_dim)
+        basis, support = fit_observed_subspace(
+            X0[members], mask[members], subspace_dim, polish=True
+        )
         r, d = subspace_residuals(X0[inliers], mask[inliers], [basis], [support])
         residuals[:, k], dofs[:, k] = r[:, 0], d[:, 0]
     per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
