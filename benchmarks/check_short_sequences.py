@@ -1,6 +1,6 @@
 """Sequences of short tracks: how far the segmentation falls from the oracle.
 
-Run from the project root (about five minutes)::
+Run from the project root (about fifteen minutes)::
 
     python benchmarks/check_short_sequences.py \\
         --out benchmarks/results/short_sequences.md
@@ -16,9 +16,10 @@ tracks removed, ``n`` the true number of motions:
    then with 200 copies of their tracks cut to one or two of their frames
    (noise 1e-3 added): the long tracks' error, and how often a copy gets its
    parent's label;
-3. hand-held draws of 60 frames (600 tracks, seed 0) whose tracks live
-   ``mean_lifetime`` 3, 5 and 10 frames: nearly every track short. Beside
-   them the oracle (``metrics.oracle_labels``, which gives a track that no
+3. hand-held draws of 60 frames (600 tracks, seeds 0-3) whose tracks live
+   ``mean_lifetime`` 3, 5 and 10 frames: nearly every track short; whether
+   ``segment_motions`` warns that most tracks are seen in three frames or
+   fewer. Beside them the oracle (``metrics.oracle_labels``, which gives a track that no
    subspace can test the largest group's label, the background's) and the
    error of labelling every track background.
 
@@ -106,30 +107,37 @@ def short_copies(seeds, n_copies=200):
     return lines
 
 
-def short_lifetimes(lifetimes, seed=0):
+def short_lifetimes(lifetimes, seeds):
     lines = [
-        "| mean lifetime (frames) | missing % | median frames per track "
-        "| segment_motions | s | oracle | every track background |",
-        "|---|---|---|---|---|---|---|",
+        "| mean lifetime (frames) | seed | missing % | median frames per track "
+        "| tracks in <= 3 frames % | warns | segment_motions | s | oracle "
+        "| every track background |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for lifetime in lifetimes:
-        X, y = _inliers(
-            scene="handheld",
-            n_frames=60,
-            n_tracks=600,
-            mean_lifetime=lifetime,
-            random_state=seed,
-        )
-        frames = np.count_nonzero(~np.isnan(X[:, 0::2]), axis=1)
-        start = time.perf_counter()
-        labels = _segmented(X, y)
-        seconds = time.perf_counter() - start
-        oracle = oracle_labels(X, y)
-        lines.append(
-            f"| {lifetime} | {100 * np.isnan(X).mean():.0f} | {np.median(frames):.0f} "
-            f"| {_error(y, labels)} | {seconds:.0f} | {_error(y, oracle)} "
-            f"| {_error(y, np.zeros_like(y))} |"
-        )
+        for seed in seeds:
+            X, y = _inliers(
+                scene="handheld",
+                n_frames=60,
+                n_tracks=600,
+                mean_lifetime=lifetime,
+                random_state=seed,
+            )
+            frames = np.count_nonzero(~np.isnan(X[:, 0::2]), axis=1)
+            start = time.perf_counter()
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always")
+                labels = segment_motions(X, len(np.unique(y)), random_state=0)
+            seconds = time.perf_counter() - start
+            warns = any("Most tracks of X" in str(w.message) for w in caught)
+            oracle = oracle_labels(X, y)
+            lines.append(
+                f"| {lifetime} | {seed} | {100 * np.isnan(X).mean():.0f} "
+                f"| {np.median(frames):.0f} | {100 * np.mean(frames <= 3):.0f} "
+                f"| {'yes' if warns else 'no'} | {_error(y, labels)} "
+                f"| {seconds:.0f} | {_error(y, oracle)} "
+                f"| {_error(y, np.zeros_like(y))} |"
+            )
     return lines
 
 
@@ -158,7 +166,7 @@ def main(argv=None):
         "",
         "## Nearly every track short (hand-held, 60 frames)",
         "",
-        *short_lifetimes((3, 5, 10)),
+        *short_lifetimes((3, 5, 10), (0, 1, 2, 3)),
         "",
     ]
     text = "\n".join(page)

@@ -61,6 +61,21 @@ def _oracle_error(X, y, polish):
         _oracle.fit_observed_subspace = fit
 
 
+def _row(name, ratios, seconds, errors):
+    """One table row: the fits' ratios and seconds, the oracle's errors."""
+    return [
+        name,
+        ratios.size,
+        int(np.sum(ratios > 1.1)),
+        int(np.sum(ratios > 1.5)),
+        f"{ratios.max():.2f}",
+        f"{seconds[0]:.2f}",
+        f"{seconds[1]:.2f}",
+        f"{errors[:, 0].mean():.2f}",
+        f"{errors[:, 1].mean():.2f}",
+    ]
+
+
 def run(seeds):
     rows, every = [], []
     for setting, params in TRACK_SETTINGS.items():
@@ -76,36 +91,15 @@ def run(seeds):
                 ratios.append(plain / polished)
                 seconds += (t0, t1)
             errors[s] = [_oracle_error(X, y, False), _oracle_error(X, y, True)]
-        ratios = np.array(ratios)
-        every.append((ratios, seconds, errors))
-        rows.append(
-            [
-                setting,
-                ratios.size,
-                int(np.sum(ratios > 1.1)),
-                int(np.sum(ratios > 1.5)),
-                f"{ratios.max():.2f}",
-                f"{seconds[0]:.2f}",
-                f"{seconds[1]:.2f}",
-                f"{errors[:, 0].mean():.2f}",
-                f"{errors[:, 1].mean():.2f}",
-            ]
-        )
-    ratios = np.concatenate([r for r, _, _ in every])
-    errors = np.concatenate([e for _, _, e in every])
-    seconds = np.sum([t for _, t, _ in every], axis=0)
+        every.append((np.array(ratios), seconds, errors))
+        rows.append(_row(setting, *every[-1]))
     rows.append(
-        [
+        _row(
             "all make_tracks settings",
-            ratios.size,
-            int(np.sum(ratios > 1.1)),
-            int(np.sum(ratios > 1.5)),
-            f"{ratios.max():.2f}",
-            f"{seconds[0]:.2f}",
-            f"{seconds[1]:.2f}",
-            f"{errors[:, 0].mean():.2f}",
-            f"{errors[:, 1].mean():.2f}",
-        ]
+            np.concatenate([r for r, _, _ in every]),
+            np.sum([t for _, t, _ in every], axis=0),
+            np.concatenate([e for _, _, e in every]),
+        )
     )
     return rows
 

@@ -214,6 +214,21 @@ def _check_tracks(X, n_motions):
             UserWarning,
             stacklevel=3,
         )
+    elif n_motions > 1 and np.mean(frames_seen[frames_seen > 0] <= 3) > 0.5:
+        # at most 2 residual degrees of freedom per track: on hand-held
+        # make_tracks draws with mean lifetime 5 (51-56 % of the tracks in
+        # three frames or fewer) the error is 34-41 %, labelling every track
+        # one motion 25 % (benchmarks/results/short_sequences.md)
+        share = np.mean(frames_seen[frames_seen > 0] <= 3)
+        warnings.warn(
+            f"Most tracks of X ({share:.0%}) are seen in three frames or "
+            "fewer: each leaves at most two residual degrees of freedom to a "
+            "4-D motion subspace, and on such sequences the segmentation can "
+            "be worse than labelling every track one motion; give longer "
+            "tracks (link broken ones) where you can.",
+            UserWarning,
+            stacklevel=3,
+        )
     empty = np.flatnonzero(np.isnan(X).all(axis=1))
     if empty.size:
         raise ValueError(
@@ -983,7 +998,11 @@ def segment_motions(
         track is seen in three frames or more and ``n_motions > 1``: a 4-D
         motion subspace fits every track of two frames, and the labels may
         be little better than chance
-        (``benchmarks/results/short_sequences.md``). When some of the
+        (``benchmarks/results/short_sequences.md``). When most tracks are
+        seen in three frames or fewer and ``n_motions > 1``: on such
+        sequences the segmentation erred more than labelling every track one
+        motion (hand-held draws with a mean track lifetime of 5 frames, same
+        page). When some of the
         ``n_motions`` labels are not used (e.g. identical tracks); the
         labels are returned as found, as :class:`~sklearn.cluster.KMeans`
         does.

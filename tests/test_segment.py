@@ -282,17 +282,23 @@ def test_segment_motions_warns_when_no_track_spans_three_frames():
     X, _ = make_tracks(scene="lab", n_frames=4, missing=0.0, random_state=0)[:2]
     with pytest.warns(UserWarning, match="No track of X is seen in three frames"):
         segment_motions(X[:, :4], 2, random_state=0)
-    # one track seen in three frames is enough to say nothing
-    X = X.copy()
-    X[1:, 4:] = np.nan
+    # tracks seen in four frames: nothing to say
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         segment_motions(X, 2, random_state=0)
     assert not [w for w in caught if "three frames" in str(w.message)]
+    # one track seen in four frames, the others in two: most tracks short
+    short = X.copy()
+    short[1:, 4:] = np.nan
+    with pytest.warns(
+        UserWarning, match=r"Most tracks of X \(100%\) are seen in three"
+    ):
+        segment_motions(short, 2, random_state=0)
     # one motion: nothing to tell apart, no warning
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         segment_motions(X[:, :4], 1, random_state=0)
+        segment_motions(short, 1, random_state=0)
 
 
 @pytest.mark.parametrize(
