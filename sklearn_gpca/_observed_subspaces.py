@@ -198,8 +198,8 @@ def fit_observed_subspace(
         92 true motions of each ``make_tracks`` seed set was still more than
         1.5 times its least value, up to 15 times
         (``benchmarks/results/subspace_convergence.md``). For references such
-        as :func:`sklearn_gpca.metrics.oracle_labels`; two to ten times the
-        time of the alternations.
+        as :func:`sklearn_gpca.metrics.oracle_labels`; one to twenty times
+        the time of the alternations (same page).
 
     Returns
     -------

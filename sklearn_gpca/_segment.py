@@ -190,6 +190,8 @@ def _check_tracks(X, n_motions):
     if np.isinf(X).any():
         raise ValueError("X contains infinite values; use NaN for missing entries.")
     frames_seen = np.count_nonzero(observed_frames(X), axis=1)
+    seen = frames_seen[frames_seen > 0]
+    short_share = float(np.mean(seen <= 3)) if seen.size else 0.0
     if n_motions > 1 and not np.any(frames_seen >= 2):
         what = (
             ("X holds a single frame", "at least two frames")
@@ -214,14 +216,13 @@ def _check_tracks(X, n_motions):
             UserWarning,
             stacklevel=3,
         )
-    elif n_motions > 1 and np.mean(frames_seen[frames_seen > 0] <= 3) > 0.5:
+    elif n_motions > 1 and short_share > 0.5:
         # at most 2 residual degrees of freedom per track: on hand-held
         # make_tracks draws with mean lifetime 5 (51-56 % of the tracks in
         # three frames or fewer) the error is 34-41 %, labelling every track
         # one motion 25 % (benchmarks/results/short_sequences.md)
-        share = np.mean(frames_seen[frames_seen > 0] <= 3)
         warnings.warn(
-            f"Most tracks of X ({share:.0%}) are seen in three frames or "
+            f"Most tracks of X ({short_share:.0%}) are seen in three frames or "
             "fewer: each leaves at most two residual degrees of freedom to a "
             "4-D motion subspace, and on such sequences the segmentation can "
             "be worse than labelling every track one motion; give longer "
