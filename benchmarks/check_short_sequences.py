@@ -19,9 +19,9 @@ tracks removed, ``n`` the true number of motions:
 3. hand-held draws of 60 frames (600 tracks, seeds 0-3) whose tracks live
    ``mean_lifetime`` 3, 5 and 10 frames: nearly every track short; whether
    ``segment_motions`` warns that most tracks are seen in three frames or
-   fewer. Beside them the oracle (``metrics.oracle_labels``, which gives a track that no
-   subspace can test the largest group's label, the background's) and the
-   error of labelling every track background.
+   fewer. Beside them the oracle (``metrics.oracle_labels``, which gives a
+   track that no subspace can test the largest group's label, the
+   background's) and the error of labelling every track background.
 
 Writes a markdown page with ``--out`` (also printed).
 """

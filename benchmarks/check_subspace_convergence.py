@@ -22,6 +22,7 @@ with 30 alternations).
 # SPDX-License-Identifier: BSD-3-Clause
 
 import argparse
+import os
 import time
 import warnings
 from pathlib import Path
@@ -137,7 +138,9 @@ def main(argv=None):
         "# Subspace fits with missing entries: 30 alternations against the "
         f"optimum\n\n`{command}`, "
         + time.strftime("%d %b %Y")
-        + ", beside other jobs (the seconds are noisy). Each true motion of "
+        + ", BLAS threads: "
+        + os.environ.get("OMP_NUM_THREADS", "the default")
+        + ". Each true motion of "
         "the draws (outlier tracks removed) fitted by "
         "`fit_observed_subspace(X0, mask, 4)` (30 alternations of "
         "alternating least squares) and with `polish=True` (then variable "

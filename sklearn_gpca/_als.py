@@ -11,6 +11,10 @@ import numpy as np
 from sklearn_gpca._least_squares import fit_rows, fits_exactly, masked_residual
 
 
+def silent(message):
+    """The ``log`` of a solver run that reports nothing."""
+
+
 def squared_residual(X0, mask, B, A, total):
     """Squared residual of ``X0 ~ B A^T`` over the observed entries.
 

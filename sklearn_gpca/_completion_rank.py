@@ -11,7 +11,7 @@ chosen by held-out error and then projects on the leading ``r`` directions.
 
 import numpy as np
 
-from sklearn_gpca._als import als
+from sklearn_gpca._als import als, silent
 from sklearn_gpca._multistart import random_basis
 
 # Entries held out to compare ranks, and the rows used for the comparison.
@@ -80,13 +80,9 @@ def select_completion_rank(X0, mask, n_components, max_rank, random_state):
         if len(errors) >= 2 and min(list(errors.values())[-2:]) > _SLACK * best:
             break  # two ranks in a row worse than the best: past the true rank
         init = random_basis(X_train.shape[1], rank, random_state)
-        B, A, _, _ = als(X_train, train, init, max_iter=100, tol=1e-6, log=_silent)
+        B, A, _, _ = als(X_train, train, init, max_iter=100, tol=1e-6, log=silent)
         residual = (X_rows - B @ A.T)[held_out]
         errors[rank] = float(np.sqrt(np.mean(residual**2)))
     best = min(errors.values())
     rank = min(q for q, error in errors.items() if error <= _SLACK * best + 1e-12)
     return rank, errors
-
-
-def _silent(message):
-    pass

@@ -23,6 +23,7 @@ observed entries of a row and nothing else:
 
 import numpy as np
 
+from sklearn_gpca._als import silent
 from sklearn_gpca._chunks import row_chunks
 from sklearn_gpca._least_squares import damp, masked_residual
 from sklearn_gpca._rows import TINY
@@ -254,15 +255,11 @@ def fit_observed_subspace(
             basis[support],
             max_iter=POLISH_ITERATIONS,
             tol=tol,
-            log=_quiet,
+            log=silent,
         )
         basis = np.zeros((n_features, dim))
         basis[support, : polished.shape[1]] = np.linalg.qr(polished)[0]
     return basis, support
-
-
-def _quiet(*args):
-    """No log."""
 
 
 def _residual_direction(X0, mask, basis, support):

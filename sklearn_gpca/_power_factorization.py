@@ -16,6 +16,7 @@ from sklearn.utils import check_array, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 from sklearn.utils.validation import check_is_fitted, validate_data
 
+from sklearn_gpca._als import silent
 from sklearn_gpca._factorization import factorise, project
 from sklearn_gpca._missing import describe_indices, masked_to_nan
 from sklearn_gpca._validation import Count
@@ -570,9 +571,5 @@ def _warn_underdetermined(X, n_components):
 
 def _logger(verbose):
     if not verbose:
-        return _silent
+        return silent
     return lambda message: print(f"[PowerFactorization] {message}")
-
-
-def _silent(message):
-    pass
