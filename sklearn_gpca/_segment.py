@@ -39,7 +39,13 @@ sequence -- and returns one motion label per track. Beyond the paper
    each track that another group's model fits better; or
    (:mod:`sklearn_gpca._segment_selection`) the shortest coding length among
    the candidates that leave the fewest tracks ambiguous between two motions
-   (``"separability"``), or the shortest coding length;
+   (``"separability"``), or the shortest coding length; with 3 motions or
+   more (``init="all"``, ``selection="consistency"``), the kept candidate's
+   largest motion is kept and the other tracks are segmented again on their
+   own motion graph (:mod:`sklearn_gpca._resegment`); those starts are
+   refined and judged beside the others, and one replaces the kept
+   candidate only when Vuong's test finds it significantly better
+   (:func:`sklearn_gpca._merge_split.significantly_better`, one-sided 5 %);
 4. optionally (``merge_split=True``), merge/split moves
    (:mod:`sklearn_gpca._merge_split`): two motions merged and another cut in
    two, refined, kept while the selection rule prefers the result;
@@ -106,6 +112,7 @@ from sklearn_gpca._refine_observed import (
     refinement_objective,
 )
 from sklearn_gpca._reseed_motions import reseed_empty_motions
+from sklearn_gpca._resegment import resegmented_starts
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
     coding_length,
@@ -726,7 +733,14 @@ def segment_motions(
         judged beside the others (drawn every time, they lowered the error
         on ``make_tracks`` draws, but on Hopkins155 sequences whose kept
         candidate was consistent the rule preferred a wrong peeled one; see
-        ``benchmarks/results/history_tracker_output.md``); an array of
+        ``benchmarks/results/history_tracker_output.md``). With 3 motions or
+        more, ``"all"`` also re-segments (:mod:`sklearn_gpca._resegment`):
+        the kept candidate's largest motion is kept, the other tracks are
+        segmented again on their own motion graph (the fragments route and
+        the peeled starts), and these starts are refined and judged; one
+        replaces the kept candidate only when Vuong's test finds it
+        significantly better (one-sided 5 %, the level of the merge/split
+        moves; ``benchmarks/results/resegment*.md``). An array of
         labels ``0 .. n_motions - 1`` is refined as it is. The votes are the
         only route that finds the small objects in front of a perspective
         background (``make_tracks`` driving scenes); see
@@ -1440,6 +1454,78 @@ def _add_peeled(candidates, n_motions, lists, *, perspective_background, n_jobs)
         )
 
 
+def _significantly_better(X0, mask, pair, cameras, noise, *, judged, **kwargs):
+    """Whether the second segmentation of ``pair`` beats the first by Vuong's
+    test (:func:`sklearn_gpca._merge_split.significantly_better`, one move),
+    judged on the tracks neither calls an outlier."""
+    common = np.logical_and(pair[0] >= 0, pair[1] >= 0)
+    _, tracks = _consistency_scores(
+        X0,
+        mask,
+        pair,
+        cameras,
+        noise,
+        common=common,
+        judged=judged,
+        return_tracks=True,
+        **kwargs,
+    )
+    return significantly_better(
+        tracks[0], tracks[1], misfit_cost=MISFIT_COST, n_compared=1
+    )
+
+
+def _add_resegmented(
+    candidates, n_motions, labels, lists, *, perspective_background, n_jobs
+):
+    """Append the refined re-segmented starts of ``labels`` to ``lists``.
+
+    As :func:`_add_peeled`, with the starts of
+    :func:`sklearn_gpca._resegment.resegmented_starts` (``labels``' largest
+    motion kept, the other tracks segmented on their own motion graph);
+    starts equal to a judged candidate's start or refined labels are skipped.
+    """
+    names, initial, refined, n_iters, cameras = lists
+    refiner = candidates.refiner
+    seen = {_partition_key(start) for start in (*initial, *refined)}
+    starts = []
+    for name, start in resegmented_starts(
+        candidates.X0,
+        candidates.mask,
+        labels,
+        n_motions,
+        candidates.noise,
+        n_neighbors=GRAPH_NEIGHBORS,
+        tracks_per_fragment=TRACKS_PER_FRAGMENT,
+        min_fragment_size=MIN_FRAGMENT_SIZE,
+        random_state=refiner.refine_kwargs["random_state"],
+    ):
+        key = _partition_key(start)
+        if key not in seen:
+            seen.add(key)
+            starts.append((name, start))
+    first = len(refined)
+    for (name, start), (refined_labels, n_iter, _) in zip(
+        starts, map_jobs(refiner, [start for _, start in starts], n_jobs), strict=True
+    ):
+        names.append(name)
+        initial.append(start)
+        refined.append(refined_labels)
+        n_iters.append(n_iter)
+        cameras.append(None)
+    if perspective_background and len(refined) > first:
+        _add_perspective_background(
+            refiner,
+            names,
+            initial,
+            refined,
+            n_iters,
+            cameras,
+            first=first,
+            n_jobs=n_jobs,
+        )
+
+
 def _segment_tracks(
     X,
     n_motions,
@@ -1626,6 +1712,36 @@ def _segment_tracks(
         )
         if len(refined) > first:
             lengths, ambiguity, consistency, fitted, chosen = judge()
+    if (
+        isinstance(init, str)
+        and init == "all"
+        and n_motions > 2
+        and selection == "consistency"
+    ):
+        # the kept candidate's background, the other tracks segmented on
+        # their own motion graph (sklearn_gpca._resegment)
+        first, kept = len(refined), chosen
+        _add_resegmented(
+            candidates,
+            n_motions,
+            refined[kept],
+            (names, initial, refined, n_iters, cameras),
+            perspective_background=perspective_background,
+            n_jobs=n_jobs,
+        )
+        if len(refined) > first:
+            lengths, ambiguity, consistency, fitted, chosen = judge()
+        if chosen >= first and not _significantly_better(
+            X0,
+            mask,
+            [refined[kept], refined[chosen]],
+            [cameras[kept], cameras[chosen]],
+            noise,
+            judged=judged,
+            subspace_dim=subspace_dim,
+            perspective_background=perspective_background,
+        ):
+            chosen = kept
     labels = refined[chosen]
     _log.info(
         "%d tracks: %d candidates judged (selection=%r) in %.1f s, kept %r",

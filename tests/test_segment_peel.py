@@ -153,7 +153,12 @@ def test_default_draws_peeled_starts_when_its_choice_is_inconsistent(caplog):
     assert any("peeled starts are drawn" in r.getMessage() for r in caplog.records)
     peeled = [name.startswith("peel ") for name in info.candidates]
     assert any(peeled) and peeled[info.chosen]
-    first = [k for k, p in enumerate(peeled) if not p]
+    # the routes' candidates (the re-segmented ones come after the peeled)
+    first = [
+        k
+        for k, (name, p) in enumerate(zip(info.candidates, peeled, strict=True))
+        if not p and not name.startswith("re-segmented")
+    ]
     assert min(info.inconsistency[first]) > PEEL_INCONSISTENCY
     assert misclassification_rate(y, labels) < 0.05
 
