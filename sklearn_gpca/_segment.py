@@ -40,7 +40,8 @@ sequence -- and returns one motion label per track. Beyond the paper
    (:mod:`sklearn_gpca._segment_selection`) the shortest coding length among
    the candidates that leave the fewest tracks ambiguous between two motions
    (``"separability"``), or the shortest coding length; with 3 motions or
-   more (``init="all"``, ``selection="consistency"``), the kept candidate's
+   more (``init="all"``, ``selection="consistency"``, tracks that are not
+   dense), the kept candidate's
    largest motion is kept and the other tracks are segmented again on their
    own motion graph (:mod:`sklearn_gpca._resegment`); those starts are
    refined and judged beside the others, and one replaces the kept
@@ -734,7 +735,8 @@ def segment_motions(
         on ``make_tracks`` draws, but on Hopkins155 sequences whose kept
         candidate was consistent the rule preferred a wrong peeled one; see
         ``benchmarks/results/history_tracker_output.md``). With 3 motions or
-        more, ``"all"`` also re-segments (:mod:`sklearn_gpca._resegment`):
+        more, on tracks that are not dense, ``"all"`` also re-segments
+        (:mod:`sklearn_gpca._resegment`):
         the kept candidate's largest motion is kept, the other tracks are
         segmented again on their own motion graph (the fragments route and
         the peeled starts), and these starts are refined and judged; one
@@ -1714,9 +1716,10 @@ def _segment_tracks(
             lengths, ambiguity, consistency, fitted, chosen = judge()
     if (
         isinstance(init, str)
-        and init == "all"
+        and init in ("all", "subsample")
         and n_motions > 2
         and selection == "consistency"
+        and not any(name.startswith("subsample") for name in names)
     ):
         # the kept candidate's background, the other tracks segmented on
         # their own motion graph (sklearn_gpca._resegment)
