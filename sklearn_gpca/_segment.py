@@ -1417,26 +1417,18 @@ def _refined_candidates(
     )
 
 
-def _add_peeled(candidates, n_motions, lists, *, perspective_background, n_jobs):
-    """Append the refined peeled starts (``init="peel"``) to ``lists``.
+def _add_refined_starts(refiner, starts, lists, *, perspective_background, n_jobs):
+    """Refine ``(name, labels)`` starts and append them to ``lists``.
 
-    ``candidates`` is :func:`_refined_candidates`' Bunch (its tracks, graph
-    and refiner are reused); ``lists`` are the ``names``, ``initial``,
-    ``refined``, ``n_iters`` and ``cameras`` being judged, extended in place.
+    ``lists`` are the ``names``, ``initial``, ``refined``, ``n_iters`` and
+    ``cameras`` being judged, extended in place; with
+    ``perspective_background`` each is also refined with its largest motion
+    seen by a perspective camera (:func:`_add_perspective_background`).
     """
     names, initial, refined, n_iters, cameras = lists
-    refiner = candidates.refiner
-    fragments = track_fragments(
-        candidates.affinity,
-        n_motions,
-        random_state=refiner.refine_kwargs["random_state"],
-    )
-    peeled = peel_candidates(
-        candidates.X0, candidates.mask, fragments, n_motions, candidates.noise
-    )
     first = len(refined)
     for (name, start), (labels, n_iter, _) in zip(
-        peeled, map_jobs(refiner, [start for _, start in peeled], n_jobs), strict=True
+        starts, map_jobs(refiner, [start for _, start in starts], n_jobs), strict=True
     ):
         names.append(name)
         initial.append(start)
@@ -1454,6 +1446,31 @@ def _add_peeled(candidates, n_motions, lists, *, perspective_background, n_jobs)
             first=first,
             n_jobs=n_jobs,
         )
+
+
+def _add_peeled(candidates, n_motions, lists, *, perspective_background, n_jobs):
+    """Append the refined peeled starts (``init="peel"``) to ``lists``.
+
+    ``candidates`` is :func:`_refined_candidates`' Bunch (its tracks, graph
+    and refiner are reused); ``lists`` are the ``names``, ``initial``,
+    ``refined``, ``n_iters`` and ``cameras`` being judged, extended in place.
+    """
+    refiner = candidates.refiner
+    fragments = track_fragments(
+        candidates.affinity,
+        n_motions,
+        random_state=refiner.refine_kwargs["random_state"],
+    )
+    peeled = peel_candidates(
+        candidates.X0, candidates.mask, fragments, n_motions, candidates.noise
+    )
+    _add_refined_starts(
+        refiner,
+        peeled,
+        lists,
+        perspective_background=perspective_background,
+        n_jobs=n_jobs,
+    )
 
 
 def _significantly_better(X0, mask, pair, cameras, noise, *, judged, **kwargs):
@@ -1487,7 +1504,7 @@ def _add_resegmented(
     motion kept, the other tracks segmented on their own motion graph);
     starts equal to a judged candidate's start or refined labels are skipped.
     """
-    names, initial, refined, n_iters, cameras = lists
+    _, initial, refined, _, _ = lists
     refiner = candidates.refiner
     seen = {_partition_key(start) for start in (*initial, *refined)}
     starts = []
@@ -1506,26 +1523,13 @@ def _add_resegmented(
         if key not in seen:
             seen.add(key)
             starts.append((name, start))
-    first = len(refined)
-    for (name, start), (refined_labels, n_iter, _) in zip(
-        starts, map_jobs(refiner, [start for _, start in starts], n_jobs), strict=True
-    ):
-        names.append(name)
-        initial.append(start)
-        refined.append(refined_labels)
-        n_iters.append(n_iter)
-        cameras.append(None)
-    if perspective_background and len(refined) > first:
-        _add_perspective_background(
-            refiner,
-            names,
-            initial,
-            refined,
-            n_iters,
-            cameras,
-            first=first,
-            n_jobs=n_jobs,
-        )
+    _add_refined_starts(
+        refiner,
+        starts,
+        lists,
+        perspective_background=perspective_background,
+        n_jobs=n_jobs,
+    )
 
 
 def _segment_tracks(
