@@ -31,15 +31,14 @@ import time
 import warnings
 from unittest import mock
 
-import numpy as np
 from _tables import markdown_table, write_markdown
-from bench_segment import TRACK_SETTINGS
+from check_perspective_background import draws as track_draws
 from check_perspective_background import setting_table
 from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
 from sklearn_gpca import segment_motions
-from sklearn_gpca.datasets import load_hopkins155, make_tracks
+from sklearn_gpca.datasets import load_hopkins155
 from sklearn_gpca.metrics import misclassification_rate, oracle_labels
 
 
@@ -62,12 +61,8 @@ def run_one(setting, name, X, y, n):
 
 
 def draws(seeds, hopkins):
-    for setting, params in TRACK_SETTINGS.items():
-        for seed in seeds:
-            X, y = make_tracks(**params, random_state=seed)
-            inliers = y >= 0
-            X, y = X[inliers], y[inliers]
-            yield setting, f"{setting} #{seed}", X, y, int(np.unique(y).size)
+    # the make_tracks draws of check_perspective_background.py, outliers removed
+    yield from track_draws(seeds, None, 1)
     if hopkins:
         for bunch in load_hopkins155(hopkins, n_motions=3):
             yield "Hopkins155, 3 motions", bunch.name, bunch.X, bunch.y, 3
