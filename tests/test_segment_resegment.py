@@ -121,3 +121,19 @@ def test_resegmentation_mends_a_motion_the_routes_cut():
     labels, info = segment_motions(X, 3, random_state=0, return_info=True)
     assert info.candidates[info.chosen].startswith("re-segmented")
     assert misclassification_rate(y, labels) < 0.03
+
+
+def test_resegmented_candidates_do_not_depend_on_n_jobs():
+    X, _ = make_motions(
+        3, n_points=[150, 40, 40], n_frames=10, missing=0.2, random_state=0
+    )
+    runs = [
+        segment_motions(X, 3, random_state=0, return_info=True, n_jobs=n_jobs)
+        for n_jobs in (1, 2)
+    ]
+    (one, first), (two, second) = runs
+    assert any(name.startswith("re-segmented") for name in first.candidates)
+    assert first.candidates == second.candidates
+    for a, b in zip(first.refined, second.refined, strict=True):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(one, two)
