@@ -34,6 +34,10 @@ from sklearn_gpca._spectral import embedding_kmeans, leading_eigenvectors
 #: merging costs grow as the square of the number of tracks (6,400 tracks:
 #: 62 s of segment_motions' 97 s).
 MAX_GROUP_TRACKS = 1000
+#: Fragments smaller than this join a neighbouring fragment before merging.
+MIN_FRAGMENT_SIZE = 12
+#: Tracks per fragment aimed at by the over-segmentation (at least 4 per motion).
+TRACKS_PER_FRAGMENT = 40
 
 
 def over_segment(affinity, n_fragments, *, random_state):
@@ -45,6 +49,15 @@ def over_segment(affinity, n_fragments, *, random_state):
     n_fragments = min(n_fragments, n_samples - 1)
     vectors = leading_eigenvectors(affinity, n_fragments, random_state)
     return embedding_kmeans(vectors, n_fragments, n_init=3, random_state=random_state)
+
+
+def track_fragments(affinity, n_motions, *, random_state):
+    """Spectral over-segmentation of the motion graph, small fragments absorbed."""
+    n_samples = affinity.shape[0]
+    n_fragments = max(4 * n_motions, n_samples // TRACKS_PER_FRAGMENT)
+    n_fragments = min(n_fragments, n_samples - 1)
+    fragments = over_segment(affinity, n_fragments, random_state=random_state)
+    return absorb_small_fragments(affinity, fragments, MIN_FRAGMENT_SIZE)
 
 
 def absorb_small_fragments(affinity, fragments, min_size):

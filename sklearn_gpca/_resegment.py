@@ -20,9 +20,9 @@ every start on all the tracks and judges it beside the others.
 import numpy as np
 
 from sklearn_gpca._fragments import (
-    absorb_small_fragments,
+    MIN_FRAGMENT_SIZE,
     merge_fragments,
-    over_segment,
+    track_fragments,
 )
 from sklearn_gpca._motion_graph import motion_affinity
 from sklearn_gpca._peel_starts import peel_candidates
@@ -37,8 +37,6 @@ def resegmented_starts(
     noise,
     *,
     n_neighbors,
-    tracks_per_fragment,
-    min_fragment_size,
     random_state,
 ):
     """Starts keeping the largest motion of ``labels``, the rest segmented anew.
@@ -57,8 +55,6 @@ def resegmented_starts(
         Noise variance per coordinate.
     n_neighbors : int
         Neighbours of each track in the rest's motion graph.
-    tracks_per_fragment, min_fragment_size : int
-        As for the fragments route of ``segment_motions``.
     random_state : RandomState instance
         For the spectral over-segmentation.
 
@@ -73,14 +69,13 @@ def resegmented_starts(
     largest = int(np.argmax(np.bincount(labels, minlength=n_motions)))
     rest = np.flatnonzero(labels != largest)
     n_rest = n_motions - 1
-    if n_rest < 2 or rest.size <= max(2 * n_neighbors, n_rest * min_fragment_size):
+    if n_rest < 2 or rest.size <= max(2 * n_neighbors, n_rest * MIN_FRAGMENT_SIZE):
         return []
     Xr, mr = X0[rest], mask[rest]
     neighbors = track_neighbors(Xr, mr, n_neighbors)
     affinity = motion_affinity(Xr, mr, neighbors)
-    n_fragments = min(max(4 * n_rest, rest.size // tracks_per_fragment), rest.size - 1)
-    fragments = over_segment(affinity, n_fragments, random_state=random_state)
-    fragments = absorb_small_fragments(affinity, fragments, min_fragment_size)
+    # the fragments of the segmentation's own routes, on these tracks alone
+    fragments = track_fragments(affinity, n_rest, random_state=random_state)
     found = []
     if fragments.max() + 1 > n_rest:
         found.append(("fragments", merge_fragments(Xr, mr, fragments, n_rest, noise)))

@@ -79,9 +79,10 @@ from sklearn_gpca._fitted_dimensions import (
     fitted_ambiguous_fraction,
 )
 from sklearn_gpca._fragments import (
-    absorb_small_fragments,
+    MIN_FRAGMENT_SIZE,
+    TRACKS_PER_FRAGMENT,
     merge_fragments,
-    over_segment,
+    track_fragments,
 )
 from sklearn_gpca._hypotheses import local_noise_level
 from sklearn_gpca._jobs import map_jobs
@@ -126,12 +127,8 @@ from sklearn_gpca._view_hypotheses import observed_frames
 
 _log = logging.getLogger(__name__)
 
-#: Fragments smaller than this join a neighbouring fragment before merging.
-MIN_FRAGMENT_SIZE = 12
 #: Neighbours of the motion graph (the refinement uses ``n_neighbors``).
 GRAPH_NEIGHBORS = 20
-#: Tracks per fragment aimed at by the over-segmentation (at least 4 per motion).
-TRACKS_PER_FRAGMENT = 40
 #: Fewest observed coordinates of a track projected by the gpca route.
 MIN_PROJECTED_ENTRIES = 6
 #: Slack of ``selection="separability"`` on the share of ambiguous tracks
@@ -322,15 +319,6 @@ def _consistency_scores(
     if return_tracks:
         return scores, [judged[key][2] for key in keys]
     return scores
-
-
-def track_fragments(affinity, n_motions, *, random_state):
-    """Spectral over-segmentation of the motion graph, small fragments absorbed."""
-    n_samples = affinity.shape[0]
-    n_fragments = max(4 * n_motions, n_samples // TRACKS_PER_FRAGMENT)
-    n_fragments = min(n_fragments, n_samples - 1)
-    fragments = over_segment(affinity, n_fragments, random_state=random_state)
-    return absorb_small_fragments(affinity, fragments, MIN_FRAGMENT_SIZE)
 
 
 def fragment_candidate(X0, mask, affinity, n_motions, noise, *, random_state):
@@ -1515,8 +1503,6 @@ def _add_resegmented(
         n_motions,
         candidates.noise,
         n_neighbors=GRAPH_NEIGHBORS,
-        tracks_per_fragment=TRACKS_PER_FRAGMENT,
-        min_fragment_size=MIN_FRAGMENT_SIZE,
         random_state=refiner.refine_kwargs["random_state"],
     ):
         key = _partition_key(start)

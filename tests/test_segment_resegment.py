@@ -8,11 +8,7 @@ import pytest
 from sklearn_gpca import segment_motions
 from sklearn_gpca._observed_subspaces import observed_entries
 from sklearn_gpca._resegment import resegmented_starts
-from sklearn_gpca._segment import (
-    GRAPH_NEIGHBORS,
-    MIN_FRAGMENT_SIZE,
-    TRACKS_PER_FRAGMENT,
-)
+from sklearn_gpca._segment import GRAPH_NEIGHBORS
 from sklearn_gpca.datasets import make_motions, make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
@@ -41,8 +37,6 @@ def _starts(X0, mask, labels, n_motions, noise, seed=0):
         n_motions,
         noise,
         n_neighbors=GRAPH_NEIGHBORS,
-        tracks_per_fragment=TRACKS_PER_FRAGMENT,
-        min_fragment_size=MIN_FRAGMENT_SIZE,
         random_state=np.random.RandomState(seed),
     )
 
