@@ -26,6 +26,7 @@ import os
 import time
 import warnings
 from pathlib import Path
+from unittest import mock
 
 import numpy as np
 from _tables import markdown_table
@@ -55,11 +56,8 @@ def _oracle_error(X, y, polish):
     def fixed(*args, **kwargs):
         return fit(*args, **{**kwargs, "polish": polish})
 
-    _oracle.fit_observed_subspace = fixed
-    try:
+    with mock.patch.object(_oracle, "fit_observed_subspace", fixed):
         return 100 * misclassification_rate(y, _oracle.oracle_labels(X, y))
-    finally:
-        _oracle.fit_observed_subspace = fit
 
 
 def _row(name, ratios, seconds, errors):
