@@ -73,7 +73,9 @@ def test_resegmented_start_separates_objects_a_start_mixed(seed, missing):
 def test_resegmented_starts_use_every_label_but_the_largest_for_the_rest():
     X0, mask, y, noise = _draw(3, n_motions=4)
     labels, largest = _mixed_objects(y, 3)
-    for _, start in _starts(X0, mask, labels, 4, noise):
+    starts = _starts(X0, mask, labels, 4, noise)
+    assert starts
+    for _, start in starts:
         assert set(np.unique(start[y != largest])) <= set(range(4)) - {largest}
 
 
