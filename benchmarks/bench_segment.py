@@ -125,6 +125,9 @@ RULES = {
     "auto+consistency": ("auto", "consistency"),
     "all+consistency": ("all", "consistency"),
 }
+#: Name prefixes of the candidates drawn after a first judgement (the peeled
+#: fallback and the re-segmented objects): the rule rows leave them out.
+SECOND_STAGE = ("peel ", "re-segmented ")
 #: Criteria whose agreement with the error is reported: name -> info key.
 CRITERIA = {
     "coding length": "coding_lengths",
@@ -207,7 +210,8 @@ def run_one(setting, name, X, y, n, threads, paper):
             keep = [
                 i
                 for i, c in enumerate(info.candidates)
-                if init == "all" or not c.startswith("votes")
+                if not c.startswith(SECOND_STAGE)
+                and (init == "all" or not c.startswith("votes"))
             ]
             ambiguity = info.ambiguity
             if selection == "fitted_separability":
@@ -544,7 +548,10 @@ def main():
         "the nearest motion); the candidates, selection rules, peeled starts "
         "and moves are measured on every track, without screening, from "
         "one `segment_motions(..., screen_outliers=False, "
-        "return_info=True)` call. "
+        "return_info=True)` call; each rule row judges the routes' "
+        "candidates of that call alone (the peeled and re-segmented "
+        "candidates, drawn after a first judgement by the consistency rule, "
+        "are left out). "
         "*oracle*: the nearest true 4-D subspace on each track's "
         "observed entries (`sklearn_gpca.metrics.oracle_labels`), a reference "
         "that knows the groups. *default pipeline*: `PowerFactorization()` + "
