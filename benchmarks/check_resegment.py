@@ -3,16 +3,16 @@
 With 3 motions or more, ``segment_motions`` keeps the largest motion of the
 candidate its rule keeps, segments the other tracks again on their own motion
 graph (:mod:`sklearn_gpca._resegment`), refines and judges those starts, and
-lets one replace the kept candidate only when Vuong's test finds it
-significantly better. This script measures what that adds, in one process:
-per ``make_tracks`` setting of ``bench_segment.py --setting tracks`` (outlier
-tracks removed), the mean misclassification of the default and of the same
-call without the re-segmented starts (``resegmented_starts`` patched to find
-none: the code before they were added), the oracle (the nearest true 4-D
-subspace on each track's observed entries, fitted to convergence), and the
-median wall time per sequence of both calls and their ratio; with
-``--hopkins PATH``, the same on Hopkins155's three-motion sequences (with two
-motions nothing is re-segmented).
+lets one replace the kept candidate only when Vuong's test finds its score
+lower by more than one standard error (``RESEGMENT_LEVEL``). This script
+measures what that adds, in one process: per ``make_tracks`` setting of
+``bench_segment.py --setting tracks`` (outlier tracks removed), the mean
+misclassification of the default and of the same call without the re-segmented
+starts (``resegmented_starts`` patched to find none: the code before they were
+added), the oracle (the nearest true 4-D subspace on each track's observed
+entries, fitted to convergence), and the median wall time per sequence of both
+calls and their ratio; with ``--hopkins PATH``, the same on Hopkins155's
+three-motion sequences (with two motions nothing is re-segmented).
 
 Usage::
 
@@ -102,8 +102,9 @@ def main(argv=None):
             "`segment_motions(X, n)`: with 3 motions or more, the kept "
             "candidate's largest motion kept and the other tracks segmented "
             "on their own motion graph (`sklearn_gpca._resegment`), refined, "
-            "judged, and kept only when Vuong's test finds them significantly "
-            "better; *without*: the same call with "
+            "judged, and kept only when Vuong's test finds one's score lower "
+            "by more than one standard error (`RESEGMENT_LEVEL`, z < -1); "
+            "*without*: the same call with "
             "`sklearn_gpca._segment.resegmented_starts` patched to return no "
             "start (the code before); *oracle*: the nearest true 4-D subspace "
             "on each track's observed entries (`oracle_labels`, fitted to "
