@@ -76,11 +76,13 @@ def model_consistency(
         Share of the testable tracks (a residual degree of freedom in their
         own model) whose residual per degree of freedom is smaller in another
         group's model; NaN when fewer than two groups can be modelled (more
-        than ``subspace_dim`` tracks each; the tracks of a smaller group are
-        not tested).
+        than ``subspace_dim`` tracks each). A smaller group fits its tracks
+        exactly: each of them counts as nearer another group's model, and
+        its residual is that of the nearest modelled group's model.
     residual : float
         Sum over the testable tracks of ``log(1 + rho / noise)``, ``rho``
-        their residual per degree of freedom in their own model.
+        their residual per degree of freedom in their own model (for the
+        tracks of a group too small to be modelled, the nearest model).
     tracks : ndarray of shape (n_samples, 2)
         Only with ``per_track``: each track's ``log(1 + rho / noise)`` and
         whether another group's model fits it better (1.0 or 0.0); NaN for a
@@ -109,10 +111,18 @@ def model_consistency(
             residuals, dofs = subspace_residuals(X0, mask, [basis], [support])
             per_dof[:, g] = _per_dof(residuals[:, 0], dofs[:, 0])
     own = per_dof[np.arange(labels.size), index]
+    # a group of subspace_dim tracks or fewer fits them exactly, so it cannot
+    # be tested: its tracks are judged by the nearest modelled group's model
+    # and count as nearer another group's model (otherwise a candidate gains
+    # by setting its worst-fitting tracks apart in such a group)
+    unmodelled = ~np.isin(index, modelled)
+    own = np.where(unmodelled, per_dof.min(axis=1), own)
     testable = np.isfinite(own)
     if not testable.any():
         return untested if per_track else untested[:2]
-    misfit = np.argmin(per_dof[testable], axis=1) != index[testable]
+    misfit = unmodelled[testable] | (
+        np.argmin(per_dof[testable], axis=1) != index[testable]
+    )
     inconsistency = float(np.mean(misfit))
     scores = inconsistency, _robust_fit(own[testable], noise)
     if not per_track:

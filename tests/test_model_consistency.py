@@ -91,6 +91,23 @@ def test_too_few_modelled_groups_give_nan():
     assert np.isnan(model_consistency(X0, mask, y, 1.0)).all()
 
 
+def test_tracks_of_a_group_too_small_to_model_count_as_misfits():
+    # three of a motion's tracks set apart fit their own group exactly; they
+    # are judged by the nearest modelled group instead, as misfits, so that
+    # setting the worst-fitting tracks apart does not pay
+    X, y = subspace_tracks(sizes=(60, 40, 40), n_frames=8)
+    X0, mask = observed_entries(X)
+    apart = y.copy()
+    apart[:3] = 3
+    kw = {"perspective_background": False, "per_track": True}
+    truth, truth_fit, _ = model_consistency(X0, mask, y, 1.0, **kw)
+    share, fit, tracks = model_consistency(X0, mask, apart, 1.0, **kw)
+    np.testing.assert_array_equal(tracks[:3, 1], 1.0)
+    assert share == pytest.approx(truth + 3 / y.size)
+    assert np.all(np.isfinite(tracks[:3, 0]))
+    assert fit == pytest.approx(truth_fit, abs=1.0)
+
+
 @pytest.mark.parametrize(
     ("inconsistency", "residual", "expected"),
     [
