@@ -1,12 +1,13 @@
 """``segment_motions``'s default call on every Hopkins155 sequence.
 
-Run from the project root (about 8 minutes with two jobs)::
+Run from the project root (about 4-8 minutes with two jobs)::
 
     python benchmarks/check_hopkins_default.py --jobs 2
 
 Prints the mean misclassification (%) over the 2-motion, the 3-motion and
 all 155 sequences, the median wall seconds per sequence (one BLAS thread per
-job) and every sequence's error; ``--out`` also writes the per-sequence
+job, so that two jobs share two cores: not the time of a user's call with
+the default threads) and every sequence's error; ``--out`` also writes the per-sequence
 errors as CSV, to compare two revisions (``PYTHONPATH`` on a copy of the
 other's package). ``--occluded`` runs instead the 120 two-motion sequences
 with 30 % of the entries removed (``make_missing(X, 0.3, random_state=0)``,

@@ -1,6 +1,6 @@
 """Real tracker output with two motions: the giraffe video's background and foreground.
 
-Run from the project root (about 10-15 minutes per draw with two jobs)::
+Run from the project root (about 4-5 minutes per draw with two jobs)::
 
     python benchmarks/check_real_composite.py --fraction 0.125 --seeds 0 \
         --out benchmarks/results/real_composite.md
@@ -37,6 +37,7 @@ import warnings
 from pathlib import Path
 
 import numpy as np
+from _tables import write_markdown
 from sklearn.pipeline import make_pipeline
 
 from sklearn_gpca import GPCAClustering, PowerFactorization, segment_motions
@@ -134,7 +135,7 @@ def main(argv=None):
     text = "\n".join(page)
     print(text)
     if args.out:
-        Path(args.out).write_text(text)
+        write_markdown(args.out, text)
 
 
 if __name__ == "__main__":
