@@ -13,9 +13,10 @@ sequence -- and returns one motion label per track. Beyond the paper
      subspace linkage (:mod:`sklearn_gpca._fragments`), once with subspaces
      of up to 8 dimensions and once of up to ``subspace_dim + 1``
      (:func:`fragment_candidates`);
-   - *gpca*: ``PowerFactorization`` (``GPCA_ROUTE_STARTS`` random starts) +
-     ``GPCAClustering`` on the tracks it can project (at least 6 observed
-     coordinates);
+   - *gpca*: ``PowerFactorization`` (``GPCA_ROUTE_STARTS`` random starts,
+     fitted to at most ``ROUTE_FIT_TRACKS`` of the best-observed tracks, the
+     others projected) + ``GPCAClustering`` on the tracks it can project (at
+     least 6 observed coordinates);
    - *votes*: the tracks' votes for local hypotheses (fundamental matrices,
      homographies and windowed rank-4 subspaces on small samples of
      co-visible tracks), clustered by
@@ -78,6 +79,7 @@ from sklearn.utils import Bunch, check_random_state
 from sklearn.utils._param_validation import Interval, StrOptions, validate_params
 
 from sklearn_gpca._empty_motions import warn_empty_motions
+from sklearn_gpca._factorization import _subsample
 from sklearn_gpca._fitted_dimensions import (
     EXTRA_DIMENSIONS,
     fitted_ambiguous_fraction,
@@ -145,6 +147,10 @@ MIN_PROJECTED_ENTRIES = 6
 #: occluded); with 1 a lab draw went 1.0 -> 7.7 % (history, seventeenth
 #: session). Chosen as a cost bound, not swept.
 GPCA_ROUTE_STARTS = 3
+#: Most tracks the gpca route's factorisation is fitted to (the default
+#: ``max_init_samples`` of ``PowerFactorization``, on whose best-observed
+#: tracks its random starts run); the other tracks are projected.
+ROUTE_FIT_TRACKS = 1000
 #: Slack of ``selection="separability"`` on the share of ambiguous tracks
 #: (chosen with ``AMBIGUITY_DIM_DROP`` on 24 ``make_tracks`` draws and 65
 #: Hopkins155 sequences, see ``segment_motions``).
@@ -415,12 +421,21 @@ def gpca_candidate(X, X0, mask, n_motions, *, random_state):
     if rows.sum() < max(10, 2 * n_motions) or cols.sum() < 6:
         return None
     seed = random_state.randint(np.iinfo(np.int32).max)
+    Xp = X[np.ix_(rows, cols)]
+    # the factorisation of a start: fitted on the best-observed tracks that
+    # PowerFactorization's random starts run on, without its polish on every
+    # track (on real tracker output that polish alone took 258 iterations)
+    fitted = _subsample(~np.isnan(Xp), 5, ROUTE_FIT_TRACKS, np.random.RandomState(seed))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            Z = PowerFactorization(
+            factorisation = PowerFactorization(
                 n_init=GPCA_ROUTE_STARTS, random_state=seed
-            ).fit_transform(X[np.ix_(rows, cols)])
+            )
+            if fitted is None:
+                Z = factorisation.fit_transform(Xp)
+            else:
+                Z = factorisation.fit(Xp[fitted]).transform(Xp)
             # No vote cut: on tracks with many missing entries it picks worse
             # candidates than the kNN cut alone (make_tracks handheld and lab
             # draws, seeds 0-7: 17.8 and 18.5 % against 10.4 and 14.8 %).
