@@ -407,7 +407,8 @@ def gpca_candidate(X, X0, mask, n_motions, *, random_state):
     """Labels from ``PowerFactorization`` + ``GPCAClustering``.
 
     The library's defaults, but ``GPCA_ROUTE_STARTS`` random starts of the
-    factorisation.
+    factorisation, fitted to the ``ROUTE_FIT_TRACKS`` best-observed tracks
+    when there are more (the others projected by its ``transform``).
 
     Tracks observing fewer than ``MIN_PROJECTED_ENTRIES`` coordinates, and
     frames then seen by fewer than 5 tracks, are left out of the projection;
@@ -422,16 +423,19 @@ def gpca_candidate(X, X0, mask, n_motions, *, random_state):
         return None
     seed = random_state.randint(np.iinfo(np.int32).max)
     Xp = X[np.ix_(rows, cols)]
+    factorisation = PowerFactorization(n_init=GPCA_ROUTE_STARTS, random_state=seed)
     # the factorisation of a start: fitted on the best-observed tracks that
     # PowerFactorization's random starts run on, without its polish on every
     # track (on real tracker output that polish alone took 258 iterations)
-    fitted = _subsample(~np.isnan(Xp), 5, ROUTE_FIT_TRACKS, np.random.RandomState(seed))
+    fitted = _subsample(
+        mask[np.ix_(rows, cols)],
+        factorisation.n_components,
+        ROUTE_FIT_TRACKS,
+        np.random.RandomState(seed),
+    )
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
         try:
-            factorisation = PowerFactorization(
-                n_init=GPCA_ROUTE_STARTS, random_state=seed
-            )
             if fitted is None:
                 Z = factorisation.fit_transform(Xp)
             else:
