@@ -227,6 +227,11 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             ensure_all_finite="allow-nan",
             ensure_min_samples=2,
         )
+        if self.n_clusters > X.shape[0]:
+            raise ValueError(
+                f"n_clusters={self.n_clusters} is larger than the number of "
+                f"tracks ({X.shape[0]})."
+            )
         labels, info = segment_motions(
             X,
             self.n_clusters,

@@ -209,6 +209,8 @@ MAX_SUBSAMPLES = 3
 
 
 def _check_tracks(X, n_motions):
+    if np.iscomplexobj(X):
+        raise ValueError("X holds complex values; image coordinates must be real.")
     if isinstance(X, np.ma.MaskedArray):
         X = X.astype(np.float64).filled(np.nan)
     X = np.asarray(X, dtype=np.float64)

@@ -307,6 +307,8 @@ def test_segment_motions_warns_when_no_track_spans_three_frames():
         (np.zeros(6), {}, "2-D"),
         (np.zeros((5, 3)), {}, "even number"),
         (np.full((5, 4), np.inf), {}, "infinite"),
+        (np.ones((5, 4), dtype=complex), {}, "^X holds complex values"),
+        (np.ma.ones((5, 4), dtype=complex), {}, "^X holds complex values"),
         (np.vstack([np.ones((4, 4)), np.full((1, 4), np.nan)]), {}, "no observed"),
         (np.ones((2, 4)), {"n_motions": 3}, "larger than"),
         (np.ones((5, 4)), {"init": np.array([0, 1, 5, 0, 0])}, "init must"),
@@ -409,7 +411,7 @@ def test_estimator_matches_function_on_nan_and_masked():
     ("X", "params", "match"),
     [
         (np.ones((6, 3)), {}, "even number"),
-        (np.ones((2, 4)), {"n_clusters": 3}, "larger than"),
+        (np.ones((2, 4)), {"n_clusters": 3}, r"^n_clusters=3 is larger than"),
         (np.full((6, 4), np.inf), {}, "infinite|inf"),
         (np.ones((6, 4)), {"outlier_threshold": 0.0}, "outlier_threshold"),
         (np.ones((6, 4)), {"init": "truth"}, "init"),
