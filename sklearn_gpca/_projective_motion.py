@@ -128,6 +128,10 @@ def triangulate(cameras, points, seen):
         Unit homogeneous points; arbitrary for a track seen in fewer than two
         frames.
     """
+    from sklearn_gpca import _projective_pairs
+
+    if _projective_pairs.sparse_enough(seen):
+        return _projective_pairs.triangulate(cameras, points, seen)
     world = np.empty((points.shape[0], 4))
     for rows in row_chunks(points.shape[0], _CHUNK):
         x, w = points[rows], seen[rows].astype(np.float64)
@@ -183,6 +187,49 @@ def _state(cameras, world, points, seen):
     return error, xy, depth
 
 
+def frame_blocks(cameras):
+    """The four ``4 x 4`` matrices per frame of the points' normal equations.
+
+    Returns shape ``(4, n_frames, 16)``: for a point seen in frame ``f`` at
+    projection ``(x, y)`` and depth ``d``, ``J^T J`` adds the blocks ``a``
+    weighted by ``1 / d^2`` times ``1, x, y, x^2 + y^2``.
+    """
+    # The Jacobian rows of a point-frame are (P_1 - x P_3) / d and
+    # (P_2 - y P_3) / d.
+    p1, p2, p3 = cameras[:, 0], cameras[:, 1], cameras[:, 2]
+
+    def outer(a, b):
+        return a[:, :, None] * b[:, None, :]
+
+    return np.stack(
+        [
+            outer(p1, p1) + outer(p2, p2),
+            -(outer(p1, p3) + outer(p3, p1)),
+            -(outer(p2, p3) + outer(p3, p2)),
+            outer(p3, p3),
+        ]
+    ).reshape(4, -1, 16)
+
+
+def camera_gram(blocks):
+    """``(F, 12, 12)`` normal matrices of the cameras from the sums ``blocks``.
+
+    ``blocks`` of shape ``(4, F, 4, 4)`` are the sums over a frame's tracks of
+    ``X X^T`` weighted by ``1 / d^2`` times ``1, x, y, x^2 + y^2``: the
+    Jacobian rows of a point-frame are ``[s, 0, -x s]`` and ``[0, s, -y s]``
+    with ``s = X / d``.
+    """
+    gram = np.zeros((blocks.shape[1], 12, 12))
+    gram[:, 0:4, 0:4] = blocks[0]
+    gram[:, 4:8, 4:8] = blocks[0]
+    gram[:, 0:4, 8:12] = -blocks[1]
+    gram[:, 4:8, 8:12] = -blocks[2]
+    gram[:, 8:12, 8:12] = blocks[3]
+    gram[:, 8:12, 0:4] = -blocks[1]
+    gram[:, 8:12, 4:8] = -blocks[2]
+    return gram
+
+
 def _point_normal_equations(cameras, error, xy, depth, seen):
     """Gauss-Newton normal equations of every track's point, cameras fixed.
 
@@ -190,29 +237,14 @@ def _point_normal_equations(cameras, error, xy, depth, seen):
     points. Returns ``gram`` of shape ``(n, 4, 4)`` and ``rhs`` of shape
     ``(n, 4)``: ``J^T J`` and ``J^T r`` of the residuals ``r = error``.
     """
-    # The Jacobian rows of a point-frame are (P_1 - x P_3) / d and
-    # (P_2 - y P_3) / d (zero where unseen; (x, y) the projection, d its
-    # depth): J^T J sums over the frames four fixed 4 x 4 matrices per frame
-    # weighted by w / d^2 times 1, x, y and x^2 + y^2, one (n, 4 F) @ (4 F, 16)
-    # product; J^T r is one (n, 3 F) @ (3 F, 4) product.
-    p1, p2, p3 = cameras[:, 0], cameras[:, 1], cameras[:, 2]
-
-    def outer(a, b):
-        return a[:, :, None] * b[:, None, :]
-
-    frame_blocks = np.stack(
-        [
-            outer(p1, p1) + outer(p2, p2),
-            -(outer(p1, p3) + outer(p3, p1)),
-            -(outer(p2, p3) + outer(p3, p2)),
-            outer(p3, p3),
-        ]
-    ).reshape(-1, 16)
+    # J^T J sums the blocks of frame_blocks over the seen frames (zero
+    # weight where unseen), one (n, 4 F) @ (4 F, 16) product; J^T r is one
+    # (n, 3 F) @ (3 F, 4) product.
     px, py = xy[..., 0], xy[..., 1]
     h = seen / depth
     g = h / depth
     weights = np.concatenate([g, g * px, g * py, g * (px * px + py * py)], axis=1)
-    gram = (weights @ frame_blocks).reshape(-1, 4, 4)
+    gram = (weights @ frame_blocks(cameras).reshape(-1, 16)).reshape(-1, 4, 4)
     ex, ey = error[..., 0], error[..., 1]
     coefficients = np.stack([h * ex, h * ey, -h * (px * ex + py * ey)], axis=2)
     rhs = coefficients.reshape(error.shape[0], -1) @ cameras.reshape(-1, 4)
@@ -225,10 +257,8 @@ def _camera_normal_equations(world, error, xy, depth, seen):
     Returns ``gram`` of shape ``(F, 12, 12)`` and ``rhs`` of shape
     ``(F, 12)`` (the camera's rows concatenated), summed over the tracks.
     """
-    # The Jacobian rows of a point-frame are [s, 0, -x s] and [0, s, -y s]
-    # (s = X / d, zero where unseen): J^T J is made of the sums over the
-    # tracks of X X^T weighted by w / d^2 times 1, x, y and x^2 + y^2, one
-    # (4 F, n) @ (n, 16) product; J^T r is one (3 F, n) @ (n, 4) product.
+    # camera_gram's sums are one (4 F, n) @ (n, 16) product; J^T r is one
+    # (3 F, n) @ (n, 4) product.
     n_tracks, n_frames = error.shape[:2]
     px, py = xy[..., 0], xy[..., 1]
     ex, ey = error[..., 0], error[..., 1]
@@ -236,15 +266,7 @@ def _camera_normal_equations(world, error, xy, depth, seen):
     g = h / depth
     weights = np.concatenate([g, g * px, g * py, g * (px * px + py * py)], axis=1)
     products = (world[:, :, None] * world[:, None, :]).reshape(n_tracks, 16)
-    blocks = (weights.T @ products).reshape(4, n_frames, 4, 4)
-    gram = np.zeros((n_frames, 12, 12))
-    gram[:, 0:4, 0:4] = blocks[0]
-    gram[:, 4:8, 4:8] = blocks[0]
-    gram[:, 0:4, 8:12] = -blocks[1]
-    gram[:, 4:8, 8:12] = -blocks[2]
-    gram[:, 8:12, 8:12] = blocks[3]
-    gram[:, 8:12, 0:4] = -blocks[1]
-    gram[:, 8:12, 4:8] = -blocks[2]
+    gram = camera_gram((weights.T @ products).reshape(4, n_frames, 4, 4))
     coefficients = np.concatenate([h * ex, h * ey, -h * (px * ex + py * ey)], axis=1)
     sums = (coefficients.T @ world).reshape(3, n_frames, 4)
     rhs = np.concatenate([sums[0], sums[1], sums[2]], axis=1)
@@ -333,8 +355,15 @@ def _alternate(cameras, world, points, seen, n_iter, fit_rows):
 
     Stops early once an alternation lowers the reprojection error of the
     ``fit_rows`` tracks by less than ``CONVERGED`` of it, far less than that
-    error's own spread under the noise.
+    error's own spread under the noise. On mostly unseen point-frames the
+    steps run on the seen ones alone (:mod:`sklearn_gpca._projective_pairs`).
     """
+    from sklearn_gpca import _projective_pairs
+
+    if _projective_pairs.sparse_enough(seen):
+        return _projective_pairs.alternate(
+            cameras, world, points, seen, n_iter, fit_rows
+        )
     point_damping = np.full(world.shape[0], START_DAMPING)
     camera_damping = np.full(cameras.shape[0], START_DAMPING)
     state = _state(cameras, world, points, seen)
@@ -512,6 +541,12 @@ def _residuals(X0, mask, cameras, supported):
     """:func:`projective_residuals` on coordinates of order 1."""
     points, seen = track_frames(X0, mask)
     seen = seen & supported[None, :]
+    counts = np.count_nonzero(seen, axis=1)
+    dofs = np.maximum(2 * counts - 4, 0).astype(np.intp)
+    from sklearn_gpca import _projective_pairs
+
+    if _projective_pairs.sparse_enough(seen):
+        return _projective_pairs.residuals(cameras, points, seen), dofs
     world = triangulate(cameras, points, seen)
     damping = np.full(world.shape[0], START_DAMPING)
     state = None
@@ -525,8 +560,7 @@ def _residuals(X0, mask, cameras, supported):
         xy = u[..., :2] / _safe(u[..., 2])[..., None]
         squared = np.sum((xy - points[rows]) ** 2, axis=-1)
         residuals[rows] = np.sum(np.where(seen[rows], squared, 0.0), axis=1)
-    counts = np.count_nonzero(seen, axis=1)
-    return residuals, np.maximum(2 * counts - 4, 0).astype(np.intp)
+    return residuals, dofs
 
 
 def _image_scale(X0, mask):
