@@ -43,11 +43,11 @@ Set ``OMP_NUM_THREADS=1`` to time one BLAS thread; the page records the count.
 import argparse
 import datetime
 import os
-import time
 from pathlib import Path
 
 import numpy as np
 from _tables import write_markdown
+from bench_projective_fit import _least
 
 import sklearn_gpca._projective_pairs as pairs
 from sklearn_gpca._observed_subspaces import observed_entries
@@ -56,15 +56,6 @@ from sklearn_gpca._projective_motion import (
     projective_residuals,
 )
 from sklearn_gpca.datasets import make_tracks
-
-
-def _least(function, repeats):
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        result = function()
-        times.append(time.perf_counter() - start)
-    return min(times), result
 
 
 def _routes(X, repeats):
