@@ -2,7 +2,8 @@
 ``{demo,segment}``.
 
 ``demo`` segments synthetic trajectories; ``segment`` reads trajectories from a
-``.npz``, ``.csv`` or Hopkins155-style ``.mat`` file, segments them and writes
+``.npz``, ``.csv``, Hopkins155-style ``.mat`` or Brox & Malik ``.dat`` file,
+segments them and writes
 the labels. The Hopkins155 benchmark is ``benchmarks/bench_hopkins155.py``,
 outside the package.
 
@@ -453,14 +454,18 @@ def build_parser(prog=None):
 
     segment = commands.add_parser(
         "segment",
-        help="segment the trajectories of a .npz, .csv or .mat file",
+        help="segment the trajectories of a .npz, .csv, .mat or .dat file",
         description=(
             "Segment trajectories into rigid motions with make_pipeline("
             "PowerFactorization(R), GPCAClustering(N)), or the estimator "
             "--method names. FILE is a .npz (array X "
-            "of shape (points, 2 * frames), optional labels y), a .csv or a "
+            "of shape (points, 2 * frames), optional labels y), a .csv, a "
             "Hopkins155-style .mat (field x, else y, of shape 3 x points x "
-            f"frames; optional labels s). {CSV_RULES} The labels file has one "
+            "frames; optional labels s) or a track file of Brox & Malik's "
+            "tracker (.dat: frames, tracks, then per track its label, its "
+            "length and one 'x y frame' per point, frames from 0; labels "
+            f"count as ground truth when they differ). {CSV_RULES} The labels "
+            "file has one "
             "line per trajectory, in the order of FILE. Files are written "
             "whole or not at all (a temporary file, then a rename); FILE is "
             "never overwritten, and another existing file only with --force."

@@ -1,5 +1,6 @@
-"""Trajectory files of the command line: read ``.npz``, ``.csv``, ``.mat``;
-write atomically.
+"""Trajectory files of the command line: read ``.npz``, ``.csv``, ``.mat``,
+``.dat`` (Brox & Malik's tracker, :mod:`sklearn_gpca._brox_tracks`); write
+atomically.
 
 Every problem with a file is raised as :class:`UsageError`, whose message
 names the file (and the line of a ``.csv``) and says what is wrong.
@@ -17,7 +18,7 @@ import numpy as np
 #: Least number of frames for a trajectory file.
 MIN_FRAMES = 3
 
-FORMATS = (".npz", ".csv", ".mat")
+FORMATS = (".npz", ".csv", ".mat", ".dat")
 
 #: Cells of a ``.csv`` that mean a missing entry (compared in lower case).
 MISSING_CELLS = ("", "na", "n/a", "nan")
@@ -264,8 +265,10 @@ def read_trajectories(path):
     ----------
     path : str or path-like
         A ``.npz`` (array ``X``, optional ``y``), ``.csv`` (see
-        :data:`CSV_RULES`) or Hopkins155-style ``.mat`` file (field ``x``,
-        else ``y``, of shape 3 x points x frames; optional labels ``s``).
+        :data:`CSV_RULES`), Hopkins155-style ``.mat`` file (field ``x``,
+        else ``y``, of shape 3 x points x frames; optional labels ``s``) or
+        Brox & Malik ``.dat`` track file
+        (:func:`sklearn_gpca._brox_tracks.read_brox_tracks`).
 
     Returns
     -------
@@ -286,7 +289,14 @@ def read_trajectories(path):
     if path.is_dir():
         raise UsageError(f"{path}: is a directory, not a trajectory file")
     suffix = path.suffix.lower()
-    readers = {".npz": _read_npz, ".csv": _read_csv, ".mat": _read_mat}
+    from sklearn_gpca._brox_tracks import read_brox_tracks
+
+    readers = {
+        ".npz": _read_npz,
+        ".csv": _read_csv,
+        ".mat": _read_mat,
+        ".dat": read_brox_tracks,
+    }
     if suffix not in readers:
         raise UsageError(
             f"{path}: unknown format {suffix or '(no extension)'!r}; "

@@ -330,7 +330,7 @@ def test_directory_and_unknown_formats_are_named(tmp_path):
     folder = tmp_path / "tracks.npz"
     folder.mkdir()
     assert message_of(folder) == f"{folder}: is a directory, not a trajectory file"
-    expected = "expected one of .npz, .csv, .mat"
+    expected = "expected one of .npz, .csv, .mat, .dat"
     for name, shown in [("t.txt", "'.txt'"), ("tracks", "'(no extension)'")]:
         path = tmp_path / name
         path.write_text("1,2\n")
