@@ -7,7 +7,7 @@ import pytest
 
 from sklearn_gpca._cli import main
 from sklearn_gpca._trajectory_files import UsageError, read_trajectories
-from sklearn_gpca.datasets import make_tracks
+from sklearn_gpca.datasets import load_trajectories, make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
 
@@ -100,3 +100,14 @@ def test_command_line_segments_a_track_file(tmp_path, capsys):
     assert found.shape == y.shape
     assert misclassification_rate(y, found) < 0.1
     assert "misclassified" in capsys.readouterr().out
+
+
+def test_python_loader_raises_value_error_naming_the_file(tmp_path):
+    path = tmp_path / "t.dat"
+    path.write_text("3\n1\n0 2\n1 2 1\n3 4 1\n")
+    with pytest.raises(ValueError, match=r"t\.dat: track 0 is seen twice in frame 1"):
+        load_trajectories(path)
+    path.write_text("3\n2\n1 2\n1 2 0\n3 4 2\n2 3\n5 6 0\n7 8 1\n9 9 2\n")
+    X, y = load_trajectories(path)
+    np.testing.assert_array_equal(y, [1, 2])
+    assert X.shape == (2, 6)

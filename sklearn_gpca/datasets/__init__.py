@@ -2,6 +2,7 @@
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+from sklearn_gpca.datasets._files import load_trajectories
 from sklearn_gpca.datasets._hopkins155 import (
     fetch_hopkins155,
     hopkins155_category,
@@ -17,6 +18,7 @@ __all__ = [
     "hopkins155_category",
     "load_hopkins155",
     "load_lowrank",
+    "load_trajectories",
     "make_missing",
     "make_motions",
     "make_tracks",
