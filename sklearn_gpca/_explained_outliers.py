@@ -54,8 +54,7 @@ import numpy as np
 from scipy import special, stats
 
 from sklearn_gpca._local_outliers import normal_scores, null_width
-from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_residuals
-from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
+from sklearn_gpca._motion_models import MotionModels
 from sklearn_gpca._rows import TINY
 
 #: Fewest kept tracks of a motion whose models explain set-aside tracks (as
@@ -73,23 +72,16 @@ def _motion_residuals(X0, mask, labels, n_motions, perspective, min_tracks):
     Motions with fewer than ``min_tracks`` members get an infinite residual
     (they explain nothing).
     """
-    n_samples = X0.shape[0]
-    residuals = np.full((n_samples, n_motions), np.inf)
-    dofs = np.zeros((n_samples, n_motions), dtype=np.intp)
-    sizes = np.bincount(labels[labels >= 0], minlength=n_motions)
-    largest = int(np.argmax(sizes))
-    for k in np.flatnonzero(sizes >= max(min_tracks, 1)):
-        members = labels == k
-        basis, support = fit_observed_subspace(X0[members], mask[members], MOTION_DIM)
-        r, d = subspace_residuals(X0, mask, [basis], [support])
-        residuals[:, k], dofs[:, k] = r[:, 0], d[:, 0]
-        if perspective and k == largest:
-            cameras, supported = fit_projective_motion(X0[members], mask[members])
-            r, d = projective_residuals(X0, mask, cameras, supported)
-            # the same frames counted by both models: the better fit is kept
-            better = (d == dofs[:, k]) & (r < residuals[:, k])
-            residuals[better, k] = r[better]
-    return residuals, dofs
+    models = MotionModels(
+        X0,
+        mask,
+        labels,
+        n_motions,
+        subspace_dim=MOTION_DIM,
+        perspective=perspective,
+        min_tracks=min_tracks,
+    )
+    return models.residuals(X0, mask)
 
 
 def motion_model_log_pvalues(

@@ -7,9 +7,11 @@ from numbers import Integral, Real
 import numpy as np
 from sklearn.base import BaseEstimator, ClusterMixin, _fit_context
 from sklearn.utils._param_validation import Interval, StrOptions
-from sklearn.utils.validation import validate_data
+from sklearn.utils.validation import check_is_fitted, validate_data
 
 from sklearn_gpca._missing import masked_to_nan
+from sklearn_gpca._motion_models import MotionModels
+from sklearn_gpca._observed_subspaces import observed_entries
 from sklearn_gpca._segment import segment_motions
 from sklearn_gpca._validation import Count
 
@@ -126,6 +128,9 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
 
     n_features_in_ : int
         Number of features seen during :term:`fit`.
+
+    sizes_ : ndarray of shape (n_clusters,)
+        Tracks of each motion in ``labels_``.
 
     See Also
     --------
@@ -259,7 +264,58 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.chosen_ = self.candidates_[info.chosen] if info.chosen >= 0 else "trivial"
         self.noise_ = float(info.get("noise", np.nan))
         self.n_iter_ = int(info.n_iters[info.chosen]) if info.chosen >= 0 else 0
+        self.sizes_ = np.bincount(labels[labels >= 0], minlength=self.n_clusters)
+        # the models predict assigns new tracks to
+        X0, mask = observed_entries(X)
+        self._models = MotionModels(
+            X0,
+            mask,
+            labels,
+            self.n_clusters,
+            subspace_dim=self.subspace_dim,
+            perspective=self.perspective_background,
+            min_tracks=self.subspace_dim + 1,
+        )
         return self
+
+    def predict(self, X):
+        """Assign tracks to the fitted motions, each by its observed entries.
+
+        Each motion of ``labels_`` with more tracks than ``subspace_dim`` is
+        modelled, once at :term:`fit`, by the ``subspace_dim``-dimensional
+        subspace of its tracks on their observed entries (the affine camera
+        of the paper) and, for the largest with ``perspective_background``,
+        also by a perspective camera per frame (the better fit of the two is
+        kept for each track). A track goes to the model it fits with the
+        least residual per degree of freedom; a track none can test (seen in
+        too few frames) goes to the largest motion. Every track gets a
+        motion: ``predict`` labels no track ``-1``.
+
+        Parameters
+        ----------
+        X : array-like or masked array of shape (n_samples, n_features)
+            Trajectories over the frames of the tracks seen in :term:`fit`,
+            NaN (or masked) where not seen.
+
+        Returns
+        -------
+        labels : ndarray of shape (n_samples,)
+            The motion of each track.
+        """
+        check_is_fitted(self)
+        X = validate_data(
+            self,
+            masked_to_nan(X),
+            dtype=np.float64,
+            ensure_all_finite="allow-nan",
+            reset=False,
+        )
+        X0, mask = observed_entries(X)
+        residuals, dofs = self._models.residuals(X0, mask)
+        per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+        labels = np.argmin(per_dof, axis=1)
+        labels[~np.isfinite(per_dof).any(axis=1)] = self._models.largest
+        return labels
 
     def __sklearn_tags__(self):
         tags = super().__sklearn_tags__()
