@@ -4,9 +4,10 @@
 
 import numpy as np
 import pytest
+from test_trajectory_files import message_of
 
 from sklearn_gpca._cli import main
-from sklearn_gpca._trajectory_files import UsageError, read_trajectories
+from sklearn_gpca._trajectory_files import read_trajectories
 from sklearn_gpca.datasets import load_trajectories, make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
@@ -24,12 +25,6 @@ def brox_text(X, labels):
             f"{float(points[k, f, 0])!r} {float(points[k, f, 1])!r} {f}" for f in frames
         ]
     return "\n".join(lines) + "\n"
-
-
-def message_of(path):
-    with pytest.raises(UsageError) as info:
-        read_trajectories(path)
-    return str(info.value)
 
 
 def test_tracks_born_and_lost_are_read_back_exactly(tmp_path):
