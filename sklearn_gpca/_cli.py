@@ -43,6 +43,12 @@ AUTO_MAX_MOTIONS = 5
 #: Exit status after Ctrl-C (128 + SIGINT), as shells report it.
 INTERRUPTED = 130
 
+#: Share of missing entries from which ``segment`` with the default
+#: ``--method pipeline`` suggests ``--method tracks``: the low end of the
+#: tracker output ``MotionSegmentation`` is built for (30-70 % missing), where
+#: the pipeline errs several times more (``benchmarks/results/segment_tracks.md``).
+TRACKS_HINT_MISSING = 0.3
+
 
 def _prog():
     """``sklearn-gpca`` when run as the installed script, else ``python -m``."""
@@ -334,6 +340,14 @@ def _segment(args):
     if args.plot is not None:
         rows.append(("plot", f"{args.plot}"))
     _print_rows(rows)
+    missing = float(np.isnan(X).mean())
+    if args.method == "pipeline" and missing >= TRACKS_HINT_MISSING:
+        print(
+            f"{args.prog}: note: {100 * missing:.0f} % of the entries are missing; "
+            "for a tracker's output (tracks born and lost) --method tracks "
+            "segments better (benchmarks/results/segment_tracks.md)",
+            file=sys.stderr,
+        )
     return 0
 
 

@@ -13,7 +13,7 @@ import pytest
 import scipy.io
 
 from sklearn_gpca._cli import UsageError, build_parser, main, read_trajectories
-from sklearn_gpca.datasets import make_motions
+from sklearn_gpca.datasets import make_missing, make_motions
 from sklearn_gpca.metrics import misclassification_rate
 
 
@@ -1132,3 +1132,22 @@ def test_main_reads_sys_argv_by_default(tmp_path, capsys, monkeypatch):
         capsys.readouterr().err
         == f"sklearn-gpca segment: error: {absent}: no such file\n"
     )
+
+
+@pytest.mark.parametrize(
+    "missing, method, noted",
+    [(0.5, "pipeline", True), (0.5, "tracks", False), (0.0, "pipeline", False)],
+)
+def test_segment_suggests_tracks_method_for_tracker_output(
+    tmp_path, capsys, missing, method, noted
+):
+    X, y = make_motions(2, n_points=[60, 40], n_frames=8, random_state=0)
+    if missing:
+        X = make_missing(X, missing, random_state=0)
+    path = write_npz(tmp_path / "tracks.npz", X, y)
+    status = main(["segment", str(path), "--n-motions", "2", "--method", method])
+    assert status == 0
+    err = capsys.readouterr().err
+    assert ("--method tracks segments better" in err) == noted
+    if noted:
+        assert "note: 50 % of the entries are missing" in err
