@@ -15,6 +15,11 @@ import numpy as np
 
 from sklearn_gpca._trajectory_files import UsageError
 
+#: Most point-frames (tracks times frames) a file may announce: 2^31 of them
+#: take 32 GiB as float64 coordinates. A header beyond it is taken for a
+#: malformed file rather than allocated.
+MAX_POINT_FRAMES = 2**31
+
 
 def read_brox_tracks(path):
     """Read a Brox & Malik ``.dat`` track file.
@@ -65,6 +70,12 @@ def read_brox_tracks(path):
         )
     n_frames = _count(path, numbers[0], "the number of frames", minimum=1)
     n_tracks = _count(path, numbers[1], "the number of tracks", minimum=1)
+    if n_tracks * n_frames > MAX_POINT_FRAMES:
+        raise UsageError(
+            f"{path}: its header announces {n_tracks} tracks over {n_frames} "
+            f"frames, more than {MAX_POINT_FRAMES} point-frames: not a track file "
+            "this reader can hold in memory"
+        )
     starts, lengths = _track_offsets(path, numbers, n_tracks)
     # the position of every triple (x, y, frame), in file order
     track = np.repeat(np.arange(n_tracks), lengths)

@@ -67,6 +67,7 @@ def test_one_label_for_every_track_is_no_ground_truth(tmp_path):
         ("3\n1\n0 1\n1 2 0.5\n", "track 0 is seen in frame 0.5"),
         ("3\n1\n0 2\n1 2 1\n3 4 1\n", "track 0 is seen twice in frame 1"),
         ("3\n1\n0 1\n1 inf 1\n", "track 0 has a coordinate that is not finite"),
+        ("3000000000\n1\n0 1\n1 2 0\n", "more than 2147483648 point-frames"),
     ],
 )
 def test_bad_files_are_named(tmp_path, text, message):
