@@ -4,8 +4,11 @@
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from test_trajectory_files import message_of
 
+from sklearn_gpca._brox_tracks import read_brox_tracks
 from sklearn_gpca._cli import main
 from sklearn_gpca._trajectory_files import read_trajectories
 from sklearn_gpca.datasets import load_trajectories, make_tracks
@@ -107,3 +110,39 @@ def test_python_loader_raises_value_error_naming_the_file(tmp_path):
     X, y = load_trajectories(path)
     np.testing.assert_array_equal(y, [1, 2])
     assert X.shape == (2, 6)
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    n_frames=st.integers(1, 6),
+    seen=st.lists(st.integers(1, 63), min_size=1, max_size=8),
+    seed=st.integers(0, 2**16),
+)
+def test_any_tracks_in_any_point_order_are_read_back(
+    tmp_path_factory, n_frames, seen, seed
+):
+    rng = np.random.default_rng(seed)
+    # each track seen in the frames of a bit mask (at least one frame)
+    masks = np.array(
+        [[(bits >> f) & 1 for f in range(n_frames)] for bits in seen], dtype=bool
+    )
+    masks[~masks.any(axis=1), 0] = True
+    X = np.where(
+        np.repeat(masks, 2, axis=1),
+        rng.normal(0, 300, (len(seen), 2 * n_frames)),
+        np.nan,
+    )
+    labels = rng.integers(0, 3, len(seen))
+    lines = [str(n_frames), str(len(seen))]
+    for k, row in enumerate(X.reshape(len(seen), n_frames, 2)):
+        frames = rng.permutation(np.flatnonzero(masks[k]))
+        lines.append(f"{labels[k]} {frames.size}")
+        lines += [f"{float(row[f, 0])!r} {float(row[f, 1])!r} {f}" for f in frames]
+    path = tmp_path_factory.mktemp("dat") / "t.dat"
+    path.write_text(" ".join(lines))
+    read, y = read_brox_tracks(path)
+    np.testing.assert_array_equal(read, X)
+    if np.unique(labels).size > 1:
+        np.testing.assert_array_equal(y, labels)
+    else:
+        assert y is None
