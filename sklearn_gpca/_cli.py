@@ -324,10 +324,11 @@ def _segment(args):
             f"{n}: {b:.0f}" for n, b in enumerate(bits, start=1) if np.isfinite(b)
         )
         motions += f" (auto, coding length in bits: {chosen})"
+    missing = float(np.isnan(X).mean())
     rows = [
         ("trajectories", f"{n_points}"),
         ("frames", f"{n_frames}"),
-        ("missing entries", f"{100 * np.isnan(X).mean():.1f} %"),
+        ("missing entries", f"{100 * missing:.1f} %"),
         ("motions", motions),
         ("sizes", _sizes(labels, n_motions)),
     ]
@@ -340,7 +341,6 @@ def _segment(args):
     if args.plot is not None:
         rows.append(("plot", f"{args.plot}"))
     _print_rows(rows)
-    missing = float(np.isnan(X).mean())
     if args.method == "pipeline" and missing >= TRACKS_HINT_MISSING:
         print(
             f"{args.prog}: note: {100 * missing:.0f} % of the entries are missing; "

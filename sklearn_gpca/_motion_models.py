@@ -12,6 +12,7 @@ count the same frames.
 
 import numpy as np
 
+from sklearn_gpca._model_consistency import _per_dof
 from sklearn_gpca._observed_subspaces import fit_observed_subspace, subspace_residuals
 from sklearn_gpca._projective_motion import fit_projective_motion, projective_residuals
 
@@ -82,3 +83,8 @@ class MotionModels:
                 better = (d == dofs[:, k]) & (r < residuals[:, k])
                 residuals[better, k] = r[better]
         return residuals, dofs
+
+    def per_dof(self, X0, mask):
+        """Every track's residual per degree of freedom to every model
+        (``inf`` without a model or a degree of freedom)."""
+        return _per_dof(*self.residuals(X0, mask))

@@ -311,8 +311,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             reset=False,
         )
         X0, mask = observed_entries(X)
-        residuals, dofs = self._models.residuals(X0, mask)
-        per_dof = np.where(dofs > 0, residuals / np.maximum(dofs, 1), np.inf)
+        per_dof = self._models.per_dof(X0, mask)
         labels = np.argmin(per_dof, axis=1)
         labels[~np.isfinite(per_dof).any(axis=1)] = self._models.largest
         return labels

@@ -364,18 +364,37 @@ def _alternate(cameras, world, points, seen, n_iter, fit_rows):
         return _projective_pairs.alternate(
             cameras, world, points, seen, n_iter, fit_rows
         )
+    return run_alternations(
+        cameras,
+        world,
+        _state(cameras, world, points, seen),
+        n_iter,
+        intersect=lambda c, w, damping, state: _intersection_step(
+            c, w, points, seen, damping, state
+        ),
+        resect=lambda c, w, damping, state: _resection_step(
+            c, w, points, seen, damping, fit_rows, state
+        ),
+        fit_cost=lambda state: _fit_cost(state[0], fit_rows),
+    )
+
+
+def run_alternations(cameras, world, state, n_iter, *, intersect, resect, fit_cost):
+    """At most ``n_iter`` alternations of ``intersect`` and ``resect`` steps.
+
+    Shared by the dense steps here and those on the seen point-frames
+    (:mod:`sklearn_gpca._projective_pairs`): ``intersect(cameras, world,
+    damping, state)`` returns ``(world, damping, state)``, ``resect`` the
+    same with the cameras, ``fit_cost(state)`` the fit rows' reprojection
+    error. Stops once an alternation lowers it by less than ``CONVERGED``.
+    """
     point_damping = np.full(world.shape[0], START_DAMPING)
     camera_damping = np.full(cameras.shape[0], START_DAMPING)
-    state = _state(cameras, world, points, seen)
-    cost = _fit_cost(state[0], fit_rows)
+    cost = fit_cost(state)
     for _ in range(n_iter):
-        world, point_damping, state = _intersection_step(
-            cameras, world, points, seen, point_damping, state
-        )
-        cameras, camera_damping, state = _resection_step(
-            cameras, world, points, seen, camera_damping, fit_rows, state
-        )
-        new_cost = _fit_cost(state[0], fit_rows)
+        world, point_damping, state = intersect(cameras, world, point_damping, state)
+        cameras, camera_damping, state = resect(cameras, world, camera_damping, state)
+        new_cost = fit_cost(state)
         if cost - new_cost <= CONVERGED * cost:
             break
         cost = new_cost

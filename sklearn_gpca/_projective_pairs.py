@@ -12,11 +12,12 @@ equations, in time linear in the seen point-frames.
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import functools
+
 import numpy as np
 from scipy import sparse
 
 from sklearn_gpca._projective_motion import (
-    CONVERGED,
     MIN_CAMERA_POINTS,
     START_DAMPING,
     _accept,
@@ -25,6 +26,7 @@ from sklearn_gpca._projective_motion import (
     _unit,
     camera_gram,
     frame_blocks,
+    run_alternations,
 )
 
 #: Fraction of seen point-frames below which the perspective fit runs on
@@ -164,22 +166,17 @@ def alternate(cameras, world, points, seen, n_iter, fit_rows):
     """:func:`_projective_motion._alternate` on the seen point-frames."""
     pairs = PointFrames(points, seen)
     fit = fit_rows[pairs.track].astype(np.float64)
-    point_damping = np.full(world.shape[0], START_DAMPING)
-    camera_damping = np.full(cameras.shape[0], START_DAMPING)
-    state = pairs.state(cameras, world)
-    cost = float(np.dot(_squared(state[0]), fit))
-    for _ in range(n_iter):
-        world, point_damping, state = intersection_step(
-            pairs, cameras, world, point_damping, state
-        )
-        cameras, camera_damping, state = resection_step(
-            pairs, cameras, world, camera_damping, fit, state
-        )
-        new_cost = float(np.dot(_squared(state[0]), fit))
-        if cost - new_cost <= CONVERGED * cost:
-            break
-        cost = new_cost
-    return cameras, world
+    return run_alternations(
+        cameras,
+        world,
+        pairs.state(cameras, world),
+        n_iter,
+        intersect=functools.partial(intersection_step, pairs),
+        resect=lambda c, w, damping, state: resection_step(
+            pairs, c, w, damping, fit, state
+        ),
+        fit_cost=lambda state: float(np.dot(_squared(state[0]), fit)),
+    )
 
 
 def triangulate(cameras, points, seen):
