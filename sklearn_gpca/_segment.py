@@ -577,20 +577,41 @@ def track_graph(X0, mask, n_neighbors, *, random_state):
     return neighbors, noise, affinity, weights
 
 
-def _consistency_choice(scores, n_tracks):
+def _all_motions_modelled(segmentations, common, n_motions, subspace_dim):
+    """Whether each segmentation gives every one of the ``n_motions`` motions
+    more than ``subspace_dim`` of the ``common`` tracks (enough to be
+    modelled, see :func:`sklearn_gpca._model_consistency.model_consistency`)."""
+    return np.array(
+        [
+            np.bincount(labels[common], minlength=n_motions).min() > subspace_dim
+            for labels in segmentations
+        ],
+        dtype=bool,
+    )
+
+
+def _consistency_choice(scores, n_tracks, modelled=None):
     """The candidate the consistency rule keeps.
 
     ``scores`` holds one (inconsistency, residual) row per candidate, as
     :func:`_consistency_scores` returns them, on ``n_tracks`` tracks. The rule
-    does not read the coding lengths or the ambiguity.
+    does not read the coding lengths or the ambiguity. A candidate whose
+    ``modelled`` is False (it leaves a motion too small to be modelled, see
+    :func:`_all_motions_modelled`) is not eligible while another judged one
+    is: an empty motion has no model to misfit, so the rule would otherwise
+    favour fewer motions than asked for (a 64-track motion merged into the
+    background of a 360-track hand-held draw, ``make_tracks`` seed 11).
     """
+    inconsistency = scores[:, 0].copy()
+    if modelled is not None and np.any(modelled & ~np.isnan(inconsistency)):
+        inconsistency[~modelled] = np.nan
     unused = np.zeros(len(scores))
     return select_segmentation(
         unused,
         unused,
         selection="consistency",
         tolerance=CONSISTENCY_TOLERANCE,
-        inconsistency=scores[:, 0],
+        inconsistency=inconsistency,
         residual=scores[:, 1],
         misfit_cost=MISFIT_COST,
         n_tracks=n_tracks,
@@ -689,12 +710,17 @@ def _merge_split(
             subspace_dim=subspace_dim,
             perspective_background=perspective_background,
         )
-        chosen = _consistency_choice(scores, int(np.count_nonzero(common)))
-        if chosen and not significantly_better(
-            tracks[0],
-            tracks[chosen],
-            misfit_cost=MISFIT_COST,
-            n_compared=len(segmentations) - 1,
+        modelled = _all_motions_modelled(segmentations, common, n_motions, subspace_dim)
+        chosen = _consistency_choice(scores, int(np.count_nonzero(common)), modelled)
+        if (
+            chosen
+            and modelled[0] >= modelled[chosen]
+            and not significantly_better(
+                tracks[0],
+                tracks[chosen],
+                misfit_cost=MISFIT_COST,
+                n_compared=len(segmentations) - 1,
+            )
         ):
             return 0
         return chosen
@@ -841,7 +867,12 @@ def segment_motions(
         per degree of freedom to its own model: a robust loss that keeps
         measuring where the noise estimate is far too small); the candidate
         with the least penalised fit, the fit plus ``MISFIT_COST`` (8) for
-        each track nearer another group's model, is kept. History of the
+        each track nearer another group's model, is kept; a candidate that
+        leaves one of the ``n_motions`` motions with ``subspace_dim`` tracks
+        or fewer is not eligible while another is (an empty motion has no
+        model to misfit, so it would favour fewer motions than asked for;
+        added on a 360-track hand-held draw, ``make_tracks`` seed 11, where
+        it merged a 64-track motion into the background). History of the
         choices, all on cached refined candidates: the rule (then the best
         fit among the candidates within 2 % of the least share) was chosen
         on ``make_tracks`` draws (the seven settings of
@@ -1753,7 +1784,11 @@ def _segment_tracks(
                 tolerance=AMBIGUITY_TOLERANCE,
             )
         elif selection == "consistency":
-            chosen = _consistency_choice(consistency, int(np.count_nonzero(common)))
+            chosen = _consistency_choice(
+                consistency,
+                int(np.count_nonzero(common)),
+                _all_motions_modelled(refined, common, n_motions, subspace_dim),
+            )
         else:
             chosen = select_segmentation(
                 lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
@@ -1809,15 +1844,23 @@ def _segment_tracks(
         )
         if len(refined) > first:
             lengths, ambiguity, consistency, fitted, chosen = judge()
-        if chosen >= first and not _significantly_better(
-            X0,
-            mask,
-            [refined[kept], refined[chosen]],
-            [cameras[kept], cameras[chosen]],
-            noise,
-            judged=judged,
-            subspace_dim=subspace_dim,
-            perspective_background=perspective_background,
+        common = np.logical_and.reduce([labels >= 0 for labels in refined])
+        kept_modelled, chosen_modelled = _all_motions_modelled(
+            [refined[kept], refined[chosen]], common, n_motions, subspace_dim
+        )
+        if (
+            chosen >= first
+            and kept_modelled >= chosen_modelled
+            and not _significantly_better(
+                X0,
+                mask,
+                [refined[kept], refined[chosen]],
+                [cameras[kept], cameras[chosen]],
+                noise,
+                judged=judged,
+                subspace_dim=subspace_dim,
+                perspective_background=perspective_background,
+            )
         ):
             chosen = kept
     labels = refined[chosen]
