@@ -1,8 +1,9 @@
-"""segment_motions as a tracker returns more tracks of the same scene.
+"""segment_motions as a tracker returns more (or fewer) tracks of a scene.
 
-A tracker run at a finer grid returns more tracks of the same motions. For
-each setting and seed, ``make_tracks(n_tracks=m * base, random_state=seed,
-...)`` for the multiples ``m`` of ``--multiples`` (the draws differ beyond
+A tracker run at a finer grid returns more tracks of the same motions, one
+run at a coarser grid fewer. For each setting and seed,
+``make_tracks(n_tracks=round(m * base), random_state=seed, ...)`` for the
+multiples ``m`` of ``--multiples`` (fractions allowed; the draws differ beyond
 their number of tracks: same scene parameters, other random points), outlier
 tracks removed: the misclassification of ``segment_motions(X, n,
 random_state=0)`` (default BLAS threads, one job), of the oracle
@@ -14,6 +15,8 @@ Usage::
 
     python benchmarks/check_track_count.py --seeds 0 1 2 3 --multiples 1 2 4 \
         --out benchmarks/results/track_count.md
+    python benchmarks/check_track_count.py --seeds 0 1 2 3 4 5 \
+        --multiples 0.25 0.5 1 --out benchmarks/results/track_count_fewer.md
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -41,7 +44,8 @@ SETTINGS = {
 
 def _row(setting, seed, multiple):
     keywords, base = SETTINGS[setting]
-    X, y = make_tracks(n_tracks=multiple * base, random_state=seed, **keywords)[:2]
+    n_tracks = round(multiple * base)
+    X, y = make_tracks(n_tracks=n_tracks, random_state=seed, **keywords)[:2]
     X, y = X[y >= 0], y[y >= 0]
     n = np.unique(y).size
     with warnings.catch_warnings():
@@ -61,7 +65,7 @@ def _row(setting, seed, multiple):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2, 3])
-    parser.add_argument("--multiples", type=int, nargs="+", default=[1, 2, 4])
+    parser.add_argument("--multiples", type=float, nargs="+", default=[1, 2, 4])
     parser.add_argument("--out", default=None, help="also write the page here")
     args = parser.parse_args(argv)
     header = ["setting", "seed", "multiple", "tracks", "error %", "oracle %"]
@@ -75,14 +79,14 @@ def main(argv=None):
                 tracks, error, oracle, seconds = _row(setting, seed, multiple)
                 first = first or (tracks, seconds)
                 errors.setdefault((setting, multiple), []).append((error, oracle))
-                cells = [setting, str(seed), str(multiple), str(tracks)]
+                cells = [setting, str(seed), f"{multiple:g}", str(tracks)]
                 cells += [f"{100 * error:.2f}", f"{100 * oracle:.2f}"]
                 cells += [f"{seconds:.1f}", f"{seconds / first[1]:.2f}"]
                 cells += [f"{tracks / first[0]:.2f}"]
                 rows.append(cells)
                 print(" | ".join(cells), flush=True)
     summary = [
-        [setting, str(multiple), *(f"{100 * m:.2f}" for m in np.mean(v, axis=0))]
+        [setting, f"{multiple:g}", *(f"{100 * m:.2f}" for m in np.mean(v, axis=0))]
         for (setting, multiple), v in errors.items()
     ]
     for cells in summary:
@@ -90,13 +94,13 @@ def main(argv=None):
     if args.out:
         command = "python benchmarks/check_track_count.py --seeds "
         command += " ".join(map(str, args.seeds)) + " --multiples "
-        command += " ".join(map(str, args.multiples)) + f" --out {args.out}"
+        command += " ".join(f"{m:g}" for m in args.multiples) + f" --out {args.out}"
         intro = f"{command_stamp(command)}, one job. " + " ".join(
             __doc__.split("\n\n")[1].split()
         )
         means = ["setting", "multiple", "error %", "oracle %"]
         text = page_with_tables(
-            "segment_motions with more tracks of the same scenes",
+            "segment_motions with more or fewer tracks of the same scenes",
             intro,
             [("Mean over the seeds", means, summary), ("Per draw", header, rows)],
         )
