@@ -20,9 +20,7 @@ def test_all_motions_modelled_counts_common_tracks():
     common[-1] = False
     assert _all_motions_modelled([labels], common, 3, 4).tolist() == [False]
     # a motion with no track at all
-    assert _all_motions_modelled([labels], np.ones(25, bool), 4, 4).tolist() == [
-        False
-    ]
+    assert _all_motions_modelled([labels], np.ones(25, bool), 4, 4).tolist() == [False]
 
 
 def test_consistency_choice_skips_candidates_with_unmodelled_motions():
