@@ -1757,6 +1757,7 @@ def _segment_tracks(
                 subspace_dim=subspace_dim,
                 perspective_background=perspective_background,
             )
+        modelled = _all_motions_modelled(refined, common, n_motions, subspace_dim)
         fitted = np.full(len(refined), np.nan)
         if selection == "fitted_separability":
             min_dim = max(subspace_dim - AMBIGUITY_DIM_DROP, 1)
@@ -1785,17 +1786,15 @@ def _segment_tracks(
             )
         elif selection == "consistency":
             chosen = _consistency_choice(
-                consistency,
-                int(np.count_nonzero(common)),
-                _all_motions_modelled(refined, common, n_motions, subspace_dim),
+                consistency, int(np.count_nonzero(common)), modelled
             )
         else:
             chosen = select_segmentation(
                 lengths, ambiguity, selection=selection, tolerance=AMBIGUITY_TOLERANCE
             )
-        return lengths, ambiguity, consistency, fitted, chosen
+        return lengths, ambiguity, consistency, fitted, modelled, chosen
 
-    lengths, ambiguity, consistency, fitted, chosen = judge()
+    lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
     if (
         isinstance(init, str)
         and init == "all"
@@ -1823,7 +1822,7 @@ def _segment_tracks(
             n_jobs=n_jobs,
         )
         if len(refined) > first:
-            lengths, ambiguity, consistency, fitted, chosen = judge()
+            lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
     if (
         isinstance(init, str)
         and init in ("all", "subsample")
@@ -1843,14 +1842,10 @@ def _segment_tracks(
             n_jobs=n_jobs,
         )
         if len(refined) > first:
-            lengths, ambiguity, consistency, fitted, chosen = judge()
-        common = np.logical_and.reduce([labels >= 0 for labels in refined])
-        kept_modelled, chosen_modelled = _all_motions_modelled(
-            [refined[kept], refined[chosen]], common, n_motions, subspace_dim
-        )
+            lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
         if (
             chosen >= first
-            and kept_modelled >= chosen_modelled
+            and modelled[kept] >= modelled[chosen]
             and not _significantly_better(
                 X0,
                 mask,
