@@ -618,6 +618,19 @@ def _consistency_choice(scores, n_tracks, modelled=None):
     )
 
 
+def _reverts_to_kept(modelled, kept, chosen, significantly_better):
+    """Whether the rule goes back from its choice ``chosen`` to the candidate
+    ``kept`` before it, because ``chosen`` is not significantly better
+    (``significantly_better()``, called only when it decides).
+
+    A ``chosen`` candidate that models every motion (``modelled``, see
+    :func:`_all_motions_modelled`) is not given up for a ``kept`` one that
+    does not: the significance test compares fits, and an empty motion has no
+    model to misfit.
+    """
+    return bool(modelled[kept] >= modelled[chosen]) and not significantly_better()
+
+
 def _merge_split(
     X0,
     mask,
@@ -712,15 +725,16 @@ def _merge_split(
         )
         modelled = _all_motions_modelled(segmentations, common, n_motions, subspace_dim)
         chosen = _consistency_choice(scores, int(np.count_nonzero(common)), modelled)
-        if (
-            chosen
-            and modelled[0] >= modelled[chosen]
-            and not significantly_better(
+        if chosen and _reverts_to_kept(
+            modelled,
+            0,
+            chosen,
+            lambda: significantly_better(
                 tracks[0],
                 tracks[chosen],
                 misfit_cost=MISFIT_COST,
                 n_compared=len(segmentations) - 1,
-            )
+            ),
         ):
             return 0
         return chosen
@@ -1843,10 +1857,11 @@ def _segment_tracks(
         )
         if len(refined) > first:
             lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
-        if (
-            chosen >= first
-            and modelled[kept] >= modelled[chosen]
-            and not _significantly_better(
+        if chosen >= first and _reverts_to_kept(
+            modelled,
+            kept,
+            chosen,
+            lambda: _significantly_better(
                 X0,
                 mask,
                 [refined[kept], refined[chosen]],
@@ -1855,7 +1870,7 @@ def _segment_tracks(
                 judged=judged,
                 subspace_dim=subspace_dim,
                 perspective_background=perspective_background,
-            )
+            ),
         ):
             chosen = kept
     labels = refined[chosen]

@@ -7,7 +7,11 @@ import warnings
 import numpy as np
 
 from sklearn_gpca import segment_motions
-from sklearn_gpca._segment import _all_motions_modelled, _consistency_choice
+from sklearn_gpca._segment import (
+    _all_motions_modelled,
+    _consistency_choice,
+    _reverts_to_kept,
+)
 from sklearn_gpca.datasets import make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
@@ -34,6 +38,24 @@ def test_consistency_choice_skips_candidates_with_unmodelled_motions():
     unjudged = scores.copy()
     unjudged[1] = np.nan
     assert _consistency_choice(unjudged, 300, np.array([False, True, False])) == 0
+
+
+def test_significance_guard_keeps_a_choice_that_models_every_motion():
+    def not_better():
+        return False
+
+    def never_asked():
+        raise AssertionError("the test decides nothing here")
+
+    # both model every motion (or neither): back to the kept one unless the
+    # choice is significantly better
+    assert _reverts_to_kept(np.array([True, True]), 0, 1, not_better)
+    assert not _reverts_to_kept(np.array([True, True]), 0, 1, lambda: True)
+    assert _reverts_to_kept(np.array([False, False]), 1, 0, not_better)
+    # the choice models every motion, the kept one leaves a motion empty
+    assert not _reverts_to_kept(np.array([False, True]), 0, 1, never_asked)
+    # the kept one models every motion, the choice does not
+    assert _reverts_to_kept(np.array([True, False]), 0, 1, not_better)
 
 
 def test_segment_motions_finds_a_small_motion_not_an_empty_one():
