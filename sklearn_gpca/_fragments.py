@@ -51,15 +51,10 @@ def over_segment(affinity, n_fragments, *, random_state):
     return embedding_kmeans(vectors, n_fragments, n_init=3, random_state=random_state)
 
 
-def track_fragments(
-    affinity, n_motions, *, random_state, per_fragment=TRACKS_PER_FRAGMENT
-):
-    """Spectral over-segmentation of the motion graph, small fragments absorbed.
-
-    About ``per_fragment`` tracks per fragment, and at least 4 per motion.
-    """
+def track_fragments(affinity, n_motions, *, random_state):
+    """Spectral over-segmentation of the motion graph, small fragments absorbed."""
     n_samples = affinity.shape[0]
-    n_fragments = max(4 * n_motions, n_samples // per_fragment)
+    n_fragments = max(4 * n_motions, n_samples // TRACKS_PER_FRAGMENT)
     n_fragments = min(n_fragments, n_samples - 1)
     fragments = over_segment(affinity, n_fragments, random_state=random_state)
     return absorb_small_fragments(affinity, fragments, MIN_FRAGMENT_SIZE)

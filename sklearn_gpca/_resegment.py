@@ -38,7 +38,6 @@ def resegmented_starts(
     *,
     n_neighbors,
     random_state,
-    per_fragment,
 ):
     """Starts keeping the largest motion of ``labels``, the rest segmented anew.
 
@@ -58,9 +57,6 @@ def resegmented_starts(
         Neighbours of each track in the rest's motion graph.
     random_state : RandomState instance
         For the spectral over-segmentation.
-    per_fragment : int
-        Tracks per fragment of the over-segmentation
-        (:func:`sklearn_gpca._fragments.track_fragments`).
 
     Returns
     -------
@@ -79,9 +75,7 @@ def resegmented_starts(
     neighbors = track_neighbors(Xr, mr, n_neighbors)
     affinity = motion_affinity(Xr, mr, neighbors)
     # the fragments of the segmentation's own routes, on these tracks alone
-    fragments = track_fragments(
-        affinity, n_rest, random_state=random_state, per_fragment=per_fragment
-    )
+    fragments = track_fragments(affinity, n_rest, random_state=random_state)
     found = []
     if fragments.max() + 1 > n_rest:
         found.append(("fragments", merge_fragments(Xr, mr, fragments, n_rest, noise)))

@@ -206,15 +206,6 @@ DENSE_FACTOR = 1.5
 #: Subsamples segmented (each costs about one segmentation of a scene of
 #: ``MAX_TRACKS_PER_FRAME`` tracks per frame).
 MAX_SUBSAMPLES = 3
-#: From this many motions the whole segmentation runs twice, with fragments
-#: of TRACKS_PER_FRAGMENT and of FINE_TRACKS_PER_FRAGMENT tracks, and the
-#: consistency rule keeps one (:func:`_fragment_sizes_judged`)
-FINE_FRAGMENT_MOTIONS = 4
-FINE_TRACKS_PER_FRAGMENT = 20
-#: From this many motions the fragments route also runs with fragments of
-#: FINE_TRACKS_PER_FRAGMENT tracks
-FINE_FRAGMENT_MOTIONS = 4
-FINE_TRACKS_PER_FRAGMENT = 20
 
 
 def _check_tracks(X, n_motions):
@@ -360,31 +351,15 @@ def _consistency_scores(
     return scores
 
 
-def fragment_candidate(
-    X0, mask, affinity, n_motions, noise, *, random_state, per_fragment
-):
+def fragment_candidate(X0, mask, affinity, n_motions, noise, *, random_state):
     """Labels from the fragments route (see :mod:`sklearn_gpca._fragments`)."""
     return fragment_candidates(
-        X0,
-        mask,
-        affinity,
-        n_motions,
-        noise,
-        random_state=random_state,
-        per_fragment=per_fragment,
+        X0, mask, affinity, n_motions, noise, random_state=random_state
     )[0][1]
 
 
 def fragment_candidates(
-    X0,
-    mask,
-    affinity,
-    n_motions,
-    noise,
-    *,
-    subspace_dim=None,
-    random_state,
-    per_fragment,
+    X0, mask, affinity, n_motions, noise, *, subspace_dim=None, random_state
 ):
     """``(name, labels)`` of the fragments route, merged twice.
 
@@ -400,9 +375,7 @@ def fragment_candidates(
     then gives one motion (45 % error, where the low-dimensional merge errs
     5 %).
     """
-    fragments = track_fragments(
-        affinity, n_motions, random_state=random_state, per_fragment=per_fragment
-    )
+    fragments = track_fragments(affinity, n_motions, random_state=random_state)
     if fragments.max() + 1 <= n_motions:
         return [("fragments", fragments)]
     found = [("fragments", merge_fragments(X0, mask, fragments, n_motions, noise))]
@@ -894,20 +867,6 @@ def segment_motions(
         one-job time (``benchmarks/results/segment_speed_dense.md``). Pages
         and commands: ``benchmarks/results/track_count.md``,
         ``dense_lab.md`` and ``history_tracker_output.md`` (5 Dec 2026).
-        With 4 motions or more (``init`` a string other than ``"gpca"`` and
-        ``"votes"``, ``selection="consistency"``), the whole segmentation
-        runs twice, with the motion graph over-segmented into fragments of
-        about 40 tracks (``TRACKS_PER_FRAGMENT``) and of about 20
-        (``FINE_TRACKS_PER_FRAGMENT``), and the consistency rule keeps one of
-        the two, judged on the tracks neither labels ``-1``: the objects of
-        such scenes hold a few tens of tracks beside a background of
-        hundreds, and fragments of 40 tracks mix them with the background,
-        while fragments of 20 fail more often with fewer motions. It doubles
-        the time of these scenes. On the ``make_tracks`` draws it was chosen
-        on (driving, 4 and 5 motions, seeds 100-105 and 200-205; the 4- and
-        5-motion settings of ``segment_tracks.md``, seeds 0-3) it lowered the
-        error from 15.3 to 11.9 % (fragments of 20 alone: 13.2 %); held-out
-        figures: ``benchmarks/results/motion_count.md``.
     selection : {"consistency", "separability", "fitted_separability", \
             "coding_length"}, default="consistency"
         How the refined candidate is kept. ``"consistency"``: each candidate's
@@ -1149,9 +1108,8 @@ def segment_motions(
         ``chosen``
         (index; ``refined[chosen]`` is the segmentation before the
         merge/split moves), ``n_moves`` (moves kept), ``noise`` (variance
-        per coordinate, in the units of the scaled tracks), ``scale`` (the
-        RMS used) and ``per_fragment`` (the tracks per fragment of the kept
-        run, see ``init``); with ``outlier_threshold`` or ``screen_outliers``, these
+        per coordinate, in the units of the scaled tracks) and ``scale`` (the
+        RMS used); with ``outlier_threshold`` or ``screen_outliers``, these
         describe the tracks that pass the local test, and ``outlier_pvalues``
         and ``outliers`` (mask of the tracks set aside: with
         ``outlier_threshold``, those labelled ``-1``, the set-aside tracks a
@@ -1212,109 +1170,27 @@ def segment_motions(
         return_info=return_info,
         n_jobs=n_jobs,
     )
-
-    def segment(**more):
-        if outlier_threshold is not None or (screen_outliers and n_motions > 1):
-            # outliers set aside before the candidates (sklearn_gpca._outliers)
-            return screened_segmentation(
-                _segment_tracks,
-                X,
-                n_motions,
-                outlier_threshold=(
-                    SCREEN_THRESHOLD if outlier_threshold is None else outlier_threshold
-                ),
-                assign=outlier_threshold is None,
-                # dense tracks' subsamples differ already: drawn again from
-                # every track they would double the time
-                pooled=screen_outliers != "kept"
-                and not draws_subsamples(init, ~np.isnan(X)),
-                **(kwargs | more),
-            )
-        return _segment_tracks(X, n_motions, **(kwargs | more))
-
-    if (
-        isinstance(init, str)
-        and init not in ("gpca", "votes")
-        and selection == "consistency"
-        and n_motions >= FINE_FRAGMENT_MOTIONS
-    ):
-        result = _fragment_sizes_judged(
-            segment,
+    if outlier_threshold is not None or (screen_outliers and n_motions > 1):
+        # outliers set aside before the candidates (sklearn_gpca._outliers)
+        result = screened_segmentation(
+            _segment_tracks,
             X,
             n_motions,
-            random_state=random_state,
-            return_info=return_info,
-            subspace_dim=subspace_dim,
-            perspective_background=perspective_background,
-            n_jobs=n_jobs,
+            outlier_threshold=(
+                SCREEN_THRESHOLD if outlier_threshold is None else outlier_threshold
+            ),
+            assign=outlier_threshold is None,
+            # dense tracks' subsamples differ already: drawn again from
+            # every track they would double the time
+            pooled=screen_outliers != "kept"
+            and not draws_subsamples(init, ~np.isnan(X)),
+            **kwargs,
         )
     else:
-        result = segment()
-        if return_info:
-            result[1].per_fragment = TRACKS_PER_FRAGMENT
+        result = _segment_tracks(X, n_motions, **kwargs)
     if return_info:
         result[1].scale /= unit
     return result
-
-
-def _fragment_sizes_judged(
-    segment,
-    X,
-    n_motions,
-    *,
-    random_state,
-    return_info,
-    subspace_dim,
-    perspective_background,
-    n_jobs,
-):
-    """``segment(per_fragment=..., random_state=...)`` with fragments of
-    ``TRACKS_PER_FRAGMENT`` and of ``FINE_TRACKS_PER_FRAGMENT`` tracks, and
-    the one the consistency rule keeps (:func:`_consistency_choice`, on the
-    tracks neither labels ``-1``, with the noise measured between
-    neighbours); each run starts from its own copy of ``random_state``.
-
-    With 4 or 5 motions the objects hold a few tens of tracks beside a
-    background of hundreds: fragments of 40 tracks mix an object with the
-    background, fragments of 20 isolate it more often but cut the larger
-    motions into pieces whose merge fails more often with fewer motions.
-    """
-    sizes = (TRACKS_PER_FRAGMENT, FINE_TRACKS_PER_FRAGMENT)
-    noise_state = copy.deepcopy(random_state)
-    results = [
-        segment(per_fragment=size, random_state=copy.deepcopy(random_state))
-        for size in sizes
-    ]
-    segmentations = [result[0] if return_info else result for result in results]
-    chosen = 0
-    if _partition_key(segmentations[0]) != _partition_key(segmentations[1]):
-        X0, mask, _ = _scaled_tracks(X)
-        neighbors = track_neighbors(X0, mask, min(GRAPH_NEIGHBORS, X0.shape[0] - 1))
-        noise = local_noise_level(
-            X0, mask, neighbors, random_state=check_random_state(noise_state)
-        )
-        common = np.logical_and(segmentations[0] >= 0, segmentations[1] >= 0)
-        scores = _consistency_scores(
-            X0,
-            mask,
-            segmentations,
-            [None, None],
-            noise,
-            common=common,
-            n_jobs=n_jobs,
-            subspace_dim=subspace_dim,
-            perspective_background=perspective_background,
-        )
-        modelled = _all_motions_modelled(segmentations, common, n_motions, subspace_dim)
-        chosen = _consistency_choice(scores, int(np.count_nonzero(common)), modelled)
-    _log.info(
-        "%d tracks: kept the segmentation with fragments of %d tracks",
-        X.shape[0],
-        sizes[chosen],
-    )
-    if return_info:
-        results[chosen][1].per_fragment = sizes[chosen]
-    return results[chosen]
 
 
 def _scaled_tracks(X):
@@ -1518,7 +1394,6 @@ def _refined_candidates(
     random_state,
     n_jobs,
     segment,
-    per_fragment,
 ):
     """The candidate segmentations of :func:`_segment_tracks`, refined.
 
@@ -1531,9 +1406,6 @@ def _refined_candidates(
     background cameras for the tracks divided by ``scale``, None without a
     perspective background). ``segment`` segments a subsample of dense
     tracks (``init`` "all" or "subsample", :func:`subsample_candidates`).
-    ``per_fragment`` is the size of the fragments of every route that
-    over-segments (:func:`sklearn_gpca._fragments.track_fragments`), kept in
-    the Bunch for the starts drawn later.
     """
     n_samples = X.shape[0]
     clock = time.perf_counter()
@@ -1569,7 +1441,6 @@ def _refined_candidates(
                 noise,
                 subspace_dim=subspace_dim,
                 random_state=random_state,
-                per_fragment=per_fragment,
             ):
                 names.append(name)
                 initial.append(labels)
@@ -1582,12 +1453,7 @@ def _refined_candidates(
                 names.append("votes")
                 initial.append(labels)
         if init == "peel":
-            fragments = track_fragments(
-                affinity,
-                n_motions,
-                random_state=random_state,
-                per_fragment=per_fragment,
-            )
+            fragments = track_fragments(affinity, n_motions, random_state=random_state)
             for name, labels in peel_candidates(X0, mask, fragments, n_motions, noise):
                 names.append(name)
                 initial.append(labels)
@@ -1595,13 +1461,7 @@ def _refined_candidates(
             names.append("fragments")
             initial.append(
                 fragment_candidate(
-                    X0,
-                    mask,
-                    affinity,
-                    n_motions,
-                    noise,
-                    random_state=random_state,
-                    per_fragment=per_fragment,
+                    X0, mask, affinity, n_motions, noise, random_state=random_state
                 )
             )
     else:
@@ -1668,7 +1528,6 @@ def _refined_candidates(
         refined=refined,
         n_iters=n_iters,
         cameras=cameras,
-        per_fragment=per_fragment,
     )
 
 
@@ -1715,7 +1574,6 @@ def _add_peeled(candidates, n_motions, lists, *, perspective_background, n_jobs)
         candidates.affinity,
         n_motions,
         random_state=refiner.refine_kwargs["random_state"],
-        per_fragment=candidates.per_fragment,
     )
     peeled = peel_candidates(
         candidates.X0, candidates.mask, fragments, n_motions, candidates.noise
@@ -1776,7 +1634,6 @@ def _add_resegmented(
         candidates.noise,
         n_neighbors=GRAPH_NEIGHBORS,
         random_state=refiner.refine_kwargs["random_state"],
-        per_fragment=candidates.per_fragment,
     ):
         key = _partition_key(start)
         if key not in seen:
@@ -1810,7 +1667,6 @@ def _segment_tracks(
     extra_candidates=(),
     candidates_only=False,
     candidates=None,
-    per_fragment=TRACKS_PER_FRAGMENT,
 ):
     """:func:`segment_motions` of checked tracks (in a safe range), unscreened.
 
@@ -1821,8 +1677,7 @@ def _segment_tracks(
     returns the refined candidates before any is judged
     (:func:`_refined_candidates`' Bunch); ``candidates`` takes such a Bunch,
     of the same ``X`` and keywords, and only judges them (the refinements may
-    so run in another process). ``per_fragment``: the tracks per fragment of
-    the routes that over-segment (:func:`_refined_candidates`).
+    so run in another process).
     """
     if candidates is None:
         random_state = check_random_state(random_state)
@@ -1841,7 +1696,6 @@ def _segment_tracks(
             max_iter=max_iter,
             perspective_background=perspective_background,
             n_jobs=n_jobs,
-            per_fragment=per_fragment,
         )
         candidates = _refined_candidates(
             X,

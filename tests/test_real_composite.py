@@ -11,7 +11,6 @@ two motions of one 190-frame video, each track seen on a short window (median
 import numpy as np
 import pytest
 
-from sklearn_gpca._fragments import TRACKS_PER_FRAGMENT
 from sklearn_gpca._observed_subspaces import observed_entries
 from sklearn_gpca._segment import fragment_candidates, track_graph
 from sklearn_gpca.datasets import load_lowrank
@@ -47,7 +46,6 @@ def test_a_fragments_candidate_finds_the_real_motions(giraffe):
         noise,
         subspace_dim=4,
         random_state=np.random.RandomState(0),
-        per_fragment=TRACKS_PER_FRAGMENT,
     )
     errors = {name: misclassification_rate(y, labels) for name, labels in found}
     assert min(errors.values()) < 0.1, errors

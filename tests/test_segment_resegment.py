@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from sklearn_gpca import segment_motions
-from sklearn_gpca._fragments import TRACKS_PER_FRAGMENT
 from sklearn_gpca._observed_subspaces import observed_entries
 from sklearn_gpca._resegment import resegmented_starts
 from sklearn_gpca._segment import GRAPH_NEIGHBORS
@@ -39,7 +38,6 @@ def _starts(X0, mask, labels, n_motions, noise, seed=0):
         noise,
         n_neighbors=GRAPH_NEIGHBORS,
         random_state=np.random.RandomState(seed),
-        per_fragment=TRACKS_PER_FRAGMENT,
     )
 
 
