@@ -89,22 +89,40 @@ def row_fits(X0, mask, basis, support=None):
     counts : ndarray of shape (n_samples,), dtype=intp
         Number of coordinates ``k = |O|`` each row is fitted on.
     """
-    n_samples = X0.shape[0]
-    d = basis.shape[1]
+    return fitted_rows(masked_rows(X0, mask, support), basis)
+
+
+def masked_rows(X0, mask, support=None):
+    """The parts of :func:`row_fits` that do not depend on the basis.
+
+    For fits of the same rows to many bases (the alternations of
+    :func:`fit_observed_subspace`): per chunk of rows, the observed
+    coordinates as floats, the rows zeroed off them and their squared norms;
+    and each row's number of coordinates.
+    """
     weights = mask if support is None else mask & support
-    coefs = np.empty((n_samples, d))
-    residuals = np.empty(n_samples)
-    outer = _outer_columns(basis)
-    for rows in row_chunks(n_samples, _CHUNK):
+    chunks = []
+    for rows in row_chunks(X0.shape[0], _CHUNK):
         w = weights[rows].astype(np.float64)
         x = X0[rows] * w
+        chunks.append((rows, w, x, np.einsum("ij,ij->i", x, x)))
+    return chunks, np.count_nonzero(weights, axis=1)
+
+
+def fitted_rows(prepared, basis):
+    """:func:`row_fits` of rows prepared by :func:`masked_rows`."""
+    chunks, counts = prepared
+    d = basis.shape[1]
+    coefs = np.empty((counts.size, d))
+    residuals = np.empty(counts.size)
+    outer = _outer_columns(basis)
+    for rows, w, x, squared in chunks:
         rhs = x @ basis
         gram = (w @ outer.T).reshape(-1, d, d)
         # damped, so that a row observing fewer coordinates than d never raises
         z = np.linalg.solve(damp(gram), rhs[..., None])[..., 0]
         coefs[rows] = z
-        residuals[rows] = np.einsum("ij,ij->i", x, x) - np.einsum("ij,ij->i", rhs, z)
-    counts = np.count_nonzero(weights, axis=1)
+        residuals[rows] = squared - np.einsum("ij,ij->i", rhs, z)
     return coefs, np.maximum(residuals, 0.0), counts
 
 
@@ -234,13 +252,16 @@ def fit_observed_subspace(
         init[support, : found.shape[1]] = found
     basis = init * support[:, None]
     Xw, mw = X0[:, support], mask[:, support]
+    # the same rows are fitted at every alternation: masked once
+    by_row = masked_rows(Xw, mw)
+    by_coordinate = masked_rows((Xw * sqrt_w).T, mw.T)
     previous = np.inf
     for _ in range(max_iter):
-        coefs, residuals, _ = row_fits(Xw, mw, basis[support])
+        coefs, residuals, _ = fitted_rows(by_row, basis[support])
         total = np.dot(w, residuals)
         # update the rows of B: coordinate j is fitted to the rows observing it
         weighted = coefs * sqrt_w
-        rows_b, _, _ = row_fits((Xw * sqrt_w).T, mw.T, weighted)
+        rows_b, _, _ = fitted_rows(by_coordinate, weighted)
         q, _ = np.linalg.qr(rows_b)
         basis = np.zeros((n_features, dim))
         basis[support, : q.shape[1]] = q
