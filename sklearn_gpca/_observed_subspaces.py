@@ -96,9 +96,20 @@ def masked_rows(X0, mask, support=None):
     """The parts of :func:`row_fits` that do not depend on the basis.
 
     For fits of the same rows to many bases (the alternations of
-    :func:`fit_observed_subspace`): per chunk of rows, the observed
-    coordinates as floats, the rows zeroed off them and their squared norms;
-    and each row's number of coordinates.
+    :func:`fit_observed_subspace`). It holds two float copies of the rows
+    for as long as it is kept.
+
+    Parameters
+    ----------
+    X0, mask, support
+        As for :func:`row_fits`.
+
+    Returns
+    -------
+    prepared : tuple
+        ``(chunks, counts)``: per chunk of rows, its slice, the observed
+        coordinates as floats, the rows zeroed off them and their squared
+        norms; and each row's number of coordinates. For :func:`fitted_rows`.
     """
     weights = mask if support is None else mask & support
     chunks = []
@@ -110,7 +121,20 @@ def masked_rows(X0, mask, support=None):
 
 
 def fitted_rows(prepared, basis):
-    """:func:`row_fits` of rows prepared by :func:`masked_rows`."""
+    """:func:`row_fits` of rows prepared by :func:`masked_rows`.
+
+    Parameters
+    ----------
+    prepared : tuple
+        What :func:`masked_rows` returns.
+    basis : ndarray of shape (n_features, d)
+        Basis of the subspace (columns; orthonormal or not).
+
+    Returns
+    -------
+    coefs, residuals, counts
+        As for :func:`row_fits`.
+    """
     chunks, counts = prepared
     d = basis.shape[1]
     coefs = np.empty((counts.size, d))
