@@ -50,6 +50,10 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         Try merge/split moves on the kept segmentation (see
         :func:`segment_motions`).
 
+    misfit_moves : bool, default=True
+        Give a label to the tracks that misfit the kept background's
+        perspective cameras (see :func:`segment_motions`).
+
     subspace_dim : int, default=4
         Dimension of the motion subspaces.
 
@@ -162,6 +166,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             )
         ],
         "merge_split": ["boolean"],
+        "misfit_moves": ["boolean"],
         "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
         "n_neighbors": [Count(1, None, closed="left")],
@@ -181,6 +186,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         init="all",
         selection="consistency",
         merge_split=False,
+        misfit_moves=True,
         subspace_dim=4,
         smoothing=3.0,
         n_neighbors=10,
@@ -196,6 +202,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.init = init
         self.selection = selection
         self.merge_split = merge_split
+        self.misfit_moves = misfit_moves
         self.subspace_dim = subspace_dim
         self.smoothing = smoothing
         self.n_neighbors = n_neighbors
@@ -243,6 +250,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             init=self.init,
             selection=self.selection,
             merge_split=self.merge_split,
+            misfit_moves=self.misfit_moves,
             subspace_dim=self.subspace_dim,
             smoothing=self.smoothing,
             n_neighbors=self.n_neighbors,

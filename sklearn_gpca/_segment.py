@@ -51,7 +51,11 @@ sequence -- and returns one motion label per track. Beyond the paper
    refined and judged beside the others, and one replaces the kept
    candidate only when Vuong's test finds it better by more than one
    standard error (:func:`sklearn_gpca._merge_split.significantly_better`
-   at ``RESEGMENT_LEVEL``, one-sided 15.9 %);
+   at ``RESEGMENT_LEVEL``, one-sided 15.9 %); then (``misfit_moves``) the
+   tracks that misfit the kept candidate's largest motion, its perspective
+   cameras fitted robustly, get a label freed by a merge
+   (:mod:`sklearn_gpca._misfit_moves`), refined, judged and kept by the
+   same test at the textbook 5 % (with 4 motions or more);
 4. optionally (``merge_split=True``), merge/split moves
    (:mod:`sklearn_gpca._merge_split`): two motions merged and another cut in
    two, refined, kept while the selection rule prefers the result;
@@ -98,6 +102,7 @@ from sklearn_gpca._merge_split import (
     significantly_better,
     split_in_two,
 )
+from sklearn_gpca._misfit_moves import background_misfits, misfit_starts
 from sklearn_gpca._missing import describe_indices
 from sklearn_gpca._model_consistency import model_consistency
 from sklearn_gpca._motion_graph import edge_weights, motion_affinity
@@ -191,6 +196,19 @@ PEEL_INCONSISTENCY = 0.05
 #: 0-3, 20-23, 40-43 and 60-63, where ``z < -1`` did as well or better on
 #: each set; ``history_tracker_output.md``, fifteenth session.
 RESEGMENT_LEVEL = float(stats.norm.cdf(-1.0))
+#: One-sided level of the same test for a misfit move
+#: (:mod:`sklearn_gpca._misfit_moves`): the textbook 5 %. Not tuned on the
+#: draws, but chosen after ``RESEGMENT_LEVEL`` let three moves that each added
+#: errors replace the kept candidate on Hopkins155 (``cars2B``, ``cars9``,
+#: ``three-cars_g12``; ``history_tracker_output.md``, twenty-fourth session).
+MISFIT_MOVE_LEVEL = 0.05
+#: Fewest motions for the misfit moves. Measured, not derived: with 2 and 3
+#: motions they changed 5 of the 319 segmentations checked (Hopkins155
+#: complete and occluded, ``motion_count.md``'s 2- and 3-motion draws, seeds
+#: 0-3), each for the worse (``cars2B``, ``cars9``, occluded ``cars9_g23``,
+#: hand-held 3 motions #105, 100 frames #1); with 4 and 5 motions they
+#: lowered the error on draws never used before (``misfit_moves.md``).
+MIN_MISFIT_MOVE_MOTIONS = 4
 #: Most merge/split moves kept per motion (each round refines every move).
 MAX_MOVES_PER_MOTION = 1
 #: Models whose hypothesis votes make the "votes" candidate.
@@ -765,6 +783,7 @@ def _merge_split(
             )
         ],
         "merge_split": ["boolean"],
+        "misfit_moves": ["boolean"],
         "subspace_dim": [Count(1, None, closed="left")],
         "smoothing": [Interval(Real, 0, None, closed="left")],
         "n_neighbors": [Count(1, None, closed="left")],
@@ -786,6 +805,7 @@ def segment_motions(
     init="all",
     selection="consistency",
     merge_split=False,
+    misfit_moves=True,
     subspace_dim=4,
     smoothing=3.0,
     n_neighbors=10,
@@ -970,6 +990,26 @@ def segment_motions(
         moves per round). Off by default (see
         ``benchmarks/results/merge_split*.md``). A planted merge-and-cut
         start is repaired (``tests/test_segment_moves.py``).
+    misfit_moves : bool, default=True
+        With 4 motions or more (``MIN_MISFIT_MOVE_MOTIONS``), ``init="all"``,
+        ``selection="consistency"`` and ``perspective_background`` (on
+        tracks that are not dense), after the choice: the tracks seen in 8
+        frames or more that misfit the kept candidate's largest motion (its
+        perspective cameras fitted to the best-fitting 70 % of its tracks,
+        refitted up to 6 times; residual above 3 noise variances per degree
+        of freedom) are given a label freed by merging two other motions, or
+        one into the largest (:mod:`sklearn_gpca._misfit_moves`); each such
+        start is refined and judged, and one replaces the kept candidate
+        only when Vuong's test finds it better (one-sided 5 %); repeated up
+        to ``n_motions - 1`` times while a move is kept. It undoes the
+        typical error with four and five motions under a perspective camera:
+        an object merged into the background while another motion holds two
+        labels. On ``make_tracks`` draws never used before (driving and
+        hand-held scenes, 4 and 5 motions, seeds 400-405) 18.43 -> 15.27 %
+        (5 draws better, 1 worse; oracle 5.23 %), at 1.5 times the time
+        (``benchmarks/results/misfit_moves.md``); the 8 frames were chosen
+        on seeds 100-105. With 2 and 3 motions the moves only ever made
+        things worse where measured, so they are not tried there.
     subspace_dim : int, default=4
         Dimension of the motion subspaces of the refinement (4 for a rigid
         motion seen by an affine camera).
@@ -1160,6 +1200,7 @@ def segment_motions(
         init=init,
         selection=selection,
         merge_split=merge_split,
+        misfit_moves=misfit_moves,
         subspace_dim=subspace_dim,
         smoothing=smoothing,
         n_neighbors=n_neighbors,
@@ -1587,10 +1628,12 @@ def _add_peeled(candidates, n_motions, lists, *, perspective_background, n_jobs)
     )
 
 
-def _significantly_better(X0, mask, pair, cameras, noise, *, judged, **kwargs):
+def _significantly_better(
+    X0, mask, pair, cameras, noise, *, judged, level=RESEGMENT_LEVEL, **kwargs
+):
     """Whether the second segmentation of ``pair`` beats the first by Vuong's
     test (:func:`sklearn_gpca._merge_split.significantly_better`, one move, at
-    ``RESEGMENT_LEVEL``), judged on the tracks neither calls an outlier."""
+    ``level``), judged on the tracks neither calls an outlier."""
     common = np.logical_and(pair[0] >= 0, pair[1] >= 0)
     _, tracks = _consistency_scores(
         X0,
@@ -1608,7 +1651,7 @@ def _significantly_better(X0, mask, pair, cameras, noise, *, judged, **kwargs):
         tracks[1],
         misfit_cost=MISFIT_COST,
         n_compared=1,
-        level=RESEGMENT_LEVEL,
+        level=level,
     )
 
 
@@ -1648,6 +1691,43 @@ def _add_resegmented(
     )
 
 
+def _add_misfit_moves(
+    candidates, n_motions, labels, lists, *, perspective_background, n_jobs
+):
+    """Append the refined misfit starts of ``labels`` to ``lists``.
+
+    As :func:`_add_resegmented`, with the starts of
+    :func:`sklearn_gpca._misfit_moves.misfit_starts` (the tracks that misfit
+    ``labels``' largest motion's trimmed perspective fit given a label freed
+    by a merge); none when fewer than ``subspace_dim + 1`` tracks misfit.
+    """
+    _, initial, refined, _, _ = lists
+    refiner = candidates.refiner
+    largest = _largest_motion(labels, n_motions)
+    misfits = background_misfits(
+        candidates.X0,
+        candidates.mask,
+        np.flatnonzero(labels == largest),
+        candidates.noise,
+    )
+    if misfits.size <= refiner.refine_kwargs["subspace_dim"]:
+        return
+    seen = {_partition_key(start) for start in (*initial, *refined)}
+    starts = []
+    for name, start in misfit_starts(labels, n_motions, misfits):
+        key = _partition_key(start)
+        if key not in seen:
+            seen.add(key)
+            starts.append((name, start))
+    _add_refined_starts(
+        refiner,
+        starts,
+        lists,
+        perspective_background=perspective_background,
+        n_jobs=n_jobs,
+    )
+
+
 def _segment_tracks(
     X,
     n_motions,
@@ -1664,6 +1744,7 @@ def _segment_tracks(
     random_state,
     return_info,
     n_jobs=None,
+    misfit_moves=True,
     extra_candidates=(),
     candidates_only=False,
     candidates=None,
@@ -1873,6 +1954,49 @@ def _segment_tracks(
             ),
         ):
             chosen = kept
+    if (
+        misfit_moves
+        and isinstance(init, str)
+        and init in ("all", "subsample")
+        and n_motions >= MIN_MISFIT_MOVE_MOTIONS
+        and selection == "consistency"
+        and perspective_background
+        and not any(name.startswith("subsample") for name in names)
+    ):
+        # the tracks the kept background's camera cannot explain, given a
+        # label freed by a merge (sklearn_gpca._misfit_moves), while a move
+        # is significantly better
+        def significant(kept, chosen):
+            return _significantly_better(
+                X0,
+                mask,
+                [refined[kept], refined[chosen]],
+                [cameras[kept], cameras[chosen]],
+                noise,
+                judged=judged,
+                level=MISFIT_MOVE_LEVEL,
+                subspace_dim=subspace_dim,
+                perspective_background=perspective_background,
+            )
+
+        for _ in range(n_motions - 1):
+            first, kept = len(refined), chosen
+            _add_misfit_moves(
+                candidates,
+                n_motions,
+                refined[kept],
+                (names, initial, refined, n_iters, cameras),
+                perspective_background=perspective_background,
+                n_jobs=n_jobs,
+            )
+            if len(refined) == first:
+                break
+            lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
+            if chosen < first or _reverts_to_kept(
+                modelled, kept, chosen, partial(significant, kept, chosen)
+            ):
+                chosen = kept
+                break
     labels = refined[chosen]
     _log.info(
         "%d tracks: %d candidates judged (selection=%r) in %.1f s, kept %r",
