@@ -1655,6 +1655,27 @@ def _significantly_better(
     )
 
 
+def _add_new_starts(refiner, starts, lists, *, perspective_background, n_jobs):
+    """:func:`_add_refined_starts` of the ``(name, labels)`` starts whose
+    partition is not already a judged candidate's start or refined labels
+    (nor an earlier start's)."""
+    _, initial, refined, _, _ = lists
+    seen = {_partition_key(start) for start in (*initial, *refined)}
+    new = []
+    for name, start in starts:
+        key = _partition_key(start)
+        if key not in seen:
+            seen.add(key)
+            new.append((name, start))
+    _add_refined_starts(
+        refiner,
+        new,
+        lists,
+        perspective_background=perspective_background,
+        n_jobs=n_jobs,
+    )
+
+
 def _add_resegmented(
     candidates, n_motions, labels, lists, *, perspective_background, n_jobs
 ):
@@ -1665,11 +1686,8 @@ def _add_resegmented(
     motion kept, the other tracks segmented on their own motion graph);
     starts equal to a judged candidate's start or refined labels are skipped.
     """
-    _, initial, refined, _, _ = lists
     refiner = candidates.refiner
-    seen = {_partition_key(start) for start in (*initial, *refined)}
-    starts = []
-    for name, start in resegmented_starts(
+    starts = resegmented_starts(
         candidates.X0,
         candidates.mask,
         labels,
@@ -1677,12 +1695,8 @@ def _add_resegmented(
         candidates.noise,
         n_neighbors=GRAPH_NEIGHBORS,
         random_state=refiner.refine_kwargs["random_state"],
-    ):
-        key = _partition_key(start)
-        if key not in seen:
-            seen.add(key)
-            starts.append((name, start))
-    _add_refined_starts(
+    )
+    _add_new_starts(
         refiner,
         starts,
         lists,
@@ -1701,7 +1715,6 @@ def _add_misfit_moves(
     ``labels``' largest motion's trimmed perspective fit given a label freed
     by a merge); none when fewer than ``subspace_dim + 1`` tracks misfit.
     """
-    _, initial, refined, _, _ = lists
     refiner = candidates.refiner
     largest = _largest_motion(labels, n_motions)
     misfits = background_misfits(
@@ -1712,16 +1725,9 @@ def _add_misfit_moves(
     )
     if misfits.size <= refiner.refine_kwargs["subspace_dim"]:
         return
-    seen = {_partition_key(start) for start in (*initial, *refined)}
-    starts = []
-    for name, start in misfit_starts(labels, n_motions, misfits):
-        key = _partition_key(start)
-        if key not in seen:
-            seen.add(key)
-            starts.append((name, start))
-    _add_refined_starts(
+    _add_new_starts(
         refiner,
-        starts,
+        misfit_starts(labels, n_motions, misfits),
         lists,
         perspective_background=perspective_background,
         n_jobs=n_jobs,
