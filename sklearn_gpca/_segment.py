@@ -1895,6 +1895,20 @@ def _segment_tracks(
             )
         return lengths, ambiguity, consistency, fitted, modelled, chosen
 
+    def significant(kept, chosen, level):
+        # Vuong's test of refined[chosen] against refined[kept]
+        return _significantly_better(
+            X0,
+            mask,
+            [refined[kept], refined[chosen]],
+            [cameras[kept], cameras[chosen]],
+            noise,
+            judged=judged,
+            level=level,
+            subspace_dim=subspace_dim,
+            perspective_background=perspective_background,
+        )
+
     lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
     if (
         isinstance(init, str)
@@ -1945,19 +1959,7 @@ def _segment_tracks(
         if len(refined) > first:
             lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
         if chosen >= first and _reverts_to_kept(
-            modelled,
-            kept,
-            chosen,
-            lambda: _significantly_better(
-                X0,
-                mask,
-                [refined[kept], refined[chosen]],
-                [cameras[kept], cameras[chosen]],
-                noise,
-                judged=judged,
-                subspace_dim=subspace_dim,
-                perspective_background=perspective_background,
-            ),
+            modelled, kept, chosen, partial(significant, kept, chosen, RESEGMENT_LEVEL)
         ):
             chosen = kept
     if (
@@ -1972,19 +1974,6 @@ def _segment_tracks(
         # the tracks the kept background's camera cannot explain, given a
         # label freed by a merge (sklearn_gpca._misfit_moves), while a move
         # is significantly better
-        def significant(kept, chosen):
-            return _significantly_better(
-                X0,
-                mask,
-                [refined[kept], refined[chosen]],
-                [cameras[kept], cameras[chosen]],
-                noise,
-                judged=judged,
-                level=MISFIT_MOVE_LEVEL,
-                subspace_dim=subspace_dim,
-                perspective_background=perspective_background,
-            )
-
         for _ in range(n_motions - 1):
             first, kept = len(refined), chosen
             _add_misfit_moves(
@@ -1999,7 +1988,10 @@ def _segment_tracks(
                 break
             lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
             if chosen < first or _reverts_to_kept(
-                modelled, kept, chosen, partial(significant, kept, chosen)
+                modelled,
+                kept,
+                chosen,
+                partial(significant, kept, chosen, MISFIT_MOVE_LEVEL),
             ):
                 chosen = kept
                 break
