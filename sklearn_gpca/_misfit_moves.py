@@ -71,6 +71,9 @@ def background_misfits(X0, mask, members, noise):
     for _ in range(TRIM_ROUNDS):
         rho = _perspective_per_dof(X0, mask, inliers, None, noise)[members] / noise
         finite = np.isfinite(rho)
+        if not finite.any():
+            # no member is seen in enough frames to carry a residual
+            return np.empty(0, dtype=np.intp)
         cut = min(MISFIT_LEVEL, float(np.quantile(rho[finite], TRIM_SHARE)))
         kept = members[finite & (rho <= cut)]
         if kept.size < MIN_PROJECTIVE_TRACKS or np.array_equal(kept, inliers):

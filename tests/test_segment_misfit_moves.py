@@ -110,3 +110,14 @@ def test_segment_motions_tries_no_move_with_three_motions():
     X = X[y >= 0]
     _, info = segment_motions(X, 3, random_state=0, return_info=True)
     assert not any(name.startswith("misfits of ") for name in info.candidates)
+
+
+def test_background_misfits_none_when_no_track_carries_a_residual():
+    # every track seen in two frames: no residual degree of freedom
+    rng = np.random.default_rng(0)
+    X = np.full((30, 12), np.nan)
+    for i in range(30):
+        frame = rng.integers(0, 5)
+        X[i, 2 * frame : 2 * frame + 4] = rng.normal(size=4)
+    X0, mask = observed_entries(X)
+    assert background_misfits(X0, mask, np.arange(30), 1.0).size == 0
