@@ -40,6 +40,32 @@ def command_stamp(command):
     return f"`{command}`, {now:%d %b %Y %H:%M} UTC, BLAS threads: {threads}"
 
 
+def command_line(script, args, options):
+    """The command that reruns ``benchmarks/<script>`` with the parsed
+    ``args``: each of ``options`` (dest names) as ``--option value...``,
+    lists joined by spaces, floats as ``:g``; ``--out`` last."""
+
+    def text(value):
+        return f"{value:g}" if isinstance(value, float) else str(value)
+
+    parts = [f"python benchmarks/{script}"]
+    for option in (*options, "out"):
+        value = getattr(args, option)
+        values = value if isinstance(value, list | tuple) else [value]
+        parts.append(f"--{option.replace('_', '-')} " + " ".join(map(text, values)))
+    return " ".join(parts)
+
+
+def write_check_page(path, command, doc, title, sections, *, stamp_note=""):
+    """Write a check script's page: the command's stamp (with ``stamp_note``,
+    e.g. ``", one job"``), the paragraph of ``doc`` after its title line as the
+    intro, then the ``(heading, header, rows)`` sections; returns the CSVs."""
+    intro = f"{command_stamp(command)}{stamp_note}. " + " ".join(
+        doc.split("\n\n")[1].split()
+    )
+    return write_markdown(path, page_with_tables(title, intro, sections))
+
+
 def page_with_tables(title, intro, sections):
     """A Markdown page: the title, the intro, then ``(heading, header, rows)``
     sections, each a table under its heading."""

@@ -26,7 +26,7 @@ import time
 import warnings
 
 import numpy as np
-from _tables import command_stamp, page_with_tables, write_markdown
+from _tables import command_line, write_check_page
 
 from sklearn_gpca import segment_motions
 from sklearn_gpca.datasets import make_tracks
@@ -85,21 +85,17 @@ def main(argv=None):
     summary = [[str(len(rows)), f"{error:.2f}", f"{oracle:.2f}", f"{total:.0f}"]]
     print(" | ".join(summary[0]))
     if args.out:
-        command = "python benchmarks/check_dense_lab.py --seeds "
-        command += " ".join(map(str, args.seeds)) + " --motions "
-        command += " ".join(map(str, args.motions)) + " --frames "
-        command += " ".join(map(str, args.frames))
-        command += f" --tracks {args.tracks} --out {args.out}"
-        intro = f"{command_stamp(command)}, one job. " + " ".join(
-            __doc__.split("\n\n")[1].split()
-        )
         means = ["draws", "error %", "oracle %", "total s"]
-        text = page_with_tables(
+        write_check_page(
+            args.out,
+            command_line(
+                "check_dense_lab.py", args, ["seeds", "motions", "frames", "tracks"]
+            ),
+            __doc__,
             "segment_motions on dense lab scenes",
-            intro,
             [("Mean over the draws", means, summary), ("Per draw", header, rows)],
+            stamp_note=", one job",
         )
-        write_markdown(args.out, text)
 
 
 if __name__ == "__main__":

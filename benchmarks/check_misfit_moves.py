@@ -23,7 +23,7 @@ import time
 import warnings
 
 import numpy as np
-from _tables import command_stamp, page_with_tables, write_markdown
+from _tables import command_line, write_check_page
 from check_motion_count import SCENES
 from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
@@ -46,6 +46,18 @@ def _row(scene, n_motions, seed):
             errors.append(misclassification_rate(y, labels))
         oracle = misclassification_rate(y, oracle_labels(X, y))
     return scene, n_motions, seed, errors, seconds, oracle
+
+
+def _summary_cells(names, values):
+    """Mean errors (without, with, oracle), draws better / worse and the
+    total time ratio of rows ``[without, with, oracle, s without, s with]``."""
+    values = np.array(values)
+    better = int(np.sum(values[:, 1] < values[:, 0]))
+    worse = int(np.sum(values[:, 1] > values[:, 0]))
+    cells = [*names, str(len(values))]
+    cells += [f"{100 * values[:, j].mean():.2f}" for j in range(3)]
+    cells += [f"{better} / {worse}", f"{values[:, 4].sum() / values[:, 3].sum():.2f}"]
+    return cells
 
 
 def main(argv=None):
@@ -75,41 +87,21 @@ def main(argv=None):
         print(" | ".join(cells), flush=True)
     means = ["scene", "motions", "draws", "without moves %", "with moves %"]
     means += ["oracle %", "draws better / worse", "total time ratio"]
-    summary = []
-    for (scene, n), values in by_setting.items():
-        values = np.array(values)
-        better = int(np.sum(values[:, 1] < values[:, 0]))
-        worse = int(np.sum(values[:, 1] > values[:, 0]))
-        cells = [scene, str(n), str(len(values))]
-        cells += [f"{100 * values[:, j].mean():.2f}" for j in range(3)]
-        cells += [f"{better} / {worse}"]
-        cells += [f"{values[:, 4].sum() / values[:, 3].sum():.2f}"]
-        summary.append(cells)
-    all_values = np.array([v for values in by_setting.values() for v in values])
-    cells = ["all", "", str(len(all_values))]
-    cells += [f"{100 * all_values[:, j].mean():.2f}" for j in range(3)]
-    cells += [
-        f"{int(np.sum(all_values[:, 1] < all_values[:, 0]))} / "
-        f"{int(np.sum(all_values[:, 1] > all_values[:, 0]))}",
-        f"{all_values[:, 4].sum() / all_values[:, 3].sum():.2f}",
-    ]
-    summary.append(cells)
+    all_draws = [v for values in by_setting.values() for v in values]
+    summary = [
+        _summary_cells([scene, str(n)], values)
+        for (scene, n), values in by_setting.items()
+    ] + [_summary_cells(["all", ""], all_draws)]
     for cells in summary:
         print(" | ".join(cells))
     if args.out:
-        command = "python benchmarks/check_misfit_moves.py --seeds "
-        command += " ".join(map(str, args.seeds)) + " --motions "
-        command += " ".join(map(str, args.motions)) + f" --jobs {args.jobs}"
-        command += f" --out {args.out}"
-        intro = f"{command_stamp(command)}. " + " ".join(
-            __doc__.split("\n\n")[1].split()
-        )
-        text = page_with_tables(
+        write_check_page(
+            args.out,
+            command_line("check_misfit_moves.py", args, ["seeds", "motions", "jobs"]),
+            __doc__,
             "segment_motions: the misfit moves",
-            intro,
             [("Mean over the seeds", means, summary), ("Per draw", header, rows)],
         )
-        write_markdown(args.out, text)
 
 
 if __name__ == "__main__":

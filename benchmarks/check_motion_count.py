@@ -26,7 +26,7 @@ import argparse
 import warnings
 
 import numpy as np
-from _tables import command_stamp, page_with_tables, write_markdown
+from _tables import command_line, write_check_page
 from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
@@ -96,19 +96,13 @@ def main(argv=None):
     for cells in summary:
         print(" | ".join(cells))
     if args.out:
-        command = "python benchmarks/check_motion_count.py --seeds "
-        command += " ".join(map(str, args.seeds)) + " --motions "
-        command += " ".join(map(str, args.motions)) + f" --jobs {args.jobs}"
-        command += f" --out {args.out}"
-        intro = f"{command_stamp(command)}. " + " ".join(
-            __doc__.split("\n\n")[1].split()
-        )
-        text = page_with_tables(
+        write_check_page(
+            args.out,
+            command_line("check_motion_count.py", args, ["seeds", "motions", "jobs"]),
+            __doc__,
             "segment_motions with 2 to 5 motions",
-            intro,
             [("Mean over the seeds", means, summary), ("Per draw", header, rows)],
         )
-        write_markdown(args.out, text)
 
 
 if __name__ == "__main__":

@@ -26,7 +26,7 @@ import time
 import warnings
 
 import numpy as np
-from _tables import command_stamp, page_with_tables, write_markdown
+from _tables import command_line, write_check_page
 
 from sklearn_gpca import segment_motions
 from sklearn_gpca.datasets import make_tracks
@@ -92,19 +92,15 @@ def main(argv=None):
     for cells in summary:
         print(" | ".join(cells))
     if args.out:
-        command = "python benchmarks/check_track_count.py --seeds "
-        command += " ".join(map(str, args.seeds)) + " --multiples "
-        command += " ".join(f"{m:g}" for m in args.multiples) + f" --out {args.out}"
-        intro = f"{command_stamp(command)}, one job. " + " ".join(
-            __doc__.split("\n\n")[1].split()
-        )
         means = ["setting", "multiple", "error %", "oracle %"]
-        text = page_with_tables(
+        write_check_page(
+            args.out,
+            command_line("check_track_count.py", args, ["seeds", "multiples"]),
+            __doc__,
             "segment_motions with more or fewer tracks of the same scenes",
-            intro,
             [("Mean over the seeds", means, summary), ("Per draw", header, rows)],
+            stamp_note=", one job",
         )
-        write_markdown(args.out, text)
 
 
 if __name__ == "__main__":
