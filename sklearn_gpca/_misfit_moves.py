@@ -85,7 +85,7 @@ def background_misfits(X0, mask, members, noise):
     ]
 
 
-def misfit_starts(labels, n_motions, misfits):
+def misfit_starts(labels, n_motions, largest, misfits):
     """Starts giving the misfits a label freed by a merge.
 
     Parameters
@@ -94,20 +94,20 @@ def misfit_starts(labels, n_motions, misfits):
         A segmentation in ``0 .. n_motions - 1``.
     n_motions : int
         Number of motions, at least 2.
+    largest : int
+        Label of the largest motion (the background).
     misfits : ndarray of shape (n_misfits,), dtype=intp
-        Tracks of ``labels``' largest motion that misfit it
-        (:func:`background_misfits`).
+        Tracks of ``largest`` that misfit it (:func:`background_misfits`).
 
     Returns
     -------
     starts : list of (str, ndarray of shape (n_samples,))
-        For each label ``b`` other than the largest motion ``g`` and each
+        For each label ``b`` other than ``largest`` (``g``) and each
         other label ``a``: ``b``'s tracks given to ``a``, the misfits to
         ``b`` (a merge of two labels other than ``g`` is one start, whichever
         keeps its name).
     """
     labels = np.asarray(labels, dtype=np.intp)
-    largest = int(np.argmax(np.bincount(labels[labels >= 0], minlength=n_motions)))
     starts = []
     for freed in range(n_motions):
         for into in range(n_motions):

@@ -992,8 +992,9 @@ def segment_motions(
         start is repaired (``tests/test_segment_moves.py``).
     misfit_moves : bool, default=True
         With 4 motions or more (``MIN_MISFIT_MOVE_MOTIONS``), ``init="all"``,
-        ``selection="consistency"`` and ``perspective_background`` (on
-        tracks that are not dense), after the choice: the tracks seen in 8
+        ``selection="consistency"`` and ``perspective_background`` (on dense
+        tracks within the segmentation of each subsample), after the
+        choice: the tracks seen in 8
         frames or more that misfit the kept candidate's largest motion (its
         perspective cameras fitted to the best-fitting 70 % of its tracks,
         refitted up to 6 times; residual above 3 noise variances per degree
@@ -1007,9 +1008,11 @@ def segment_motions(
         labels. On ``make_tracks`` draws never used before (driving and
         hand-held scenes, 4 and 5 motions, seeds 400-405) 18.43 -> 15.27 %
         (5 draws better, 1 worse; oracle 5.23 %), at 1.5 times the time
-        (``benchmarks/results/misfit_moves.md``); the 8 frames were chosen
-        on seeds 100-105. With 2 and 3 motions the moves only ever made
-        things worse where measured, so they are not tried there.
+        with one BLAS thread per job (``benchmarks/results/misfit_moves.md``;
+        with the default threads twice the time on a 4-motion draw where a
+        move is kept, ``segment_speed_misfit_moves.md``); the 8 frames were
+        chosen on seeds 100-105. With 2 and 3 motions the moves only ever
+        made things worse where measured, so they are not tried there.
     subspace_dim : int, default=4
         Dimension of the motion subspaces of the refinement (4 for a rigid
         motion seen by an affine camera).
@@ -1628,9 +1631,7 @@ def _add_peeled(candidates, n_motions, lists, *, perspective_background, n_jobs)
     )
 
 
-def _significantly_better(
-    X0, mask, pair, cameras, noise, *, judged, level=RESEGMENT_LEVEL, **kwargs
-):
+def _significantly_better(X0, mask, pair, cameras, noise, *, judged, level, **kwargs):
     """Whether the second segmentation of ``pair`` beats the first by Vuong's
     test (:func:`sklearn_gpca._merge_split.significantly_better`, one move, at
     ``level``), judged on the tracks neither calls an outlier."""
@@ -1727,7 +1728,7 @@ def _add_misfit_moves(
         return
     _add_new_starts(
         refiner,
-        misfit_starts(labels, n_motions, misfits),
+        misfit_starts(labels, n_motions, largest, misfits),
         lists,
         perspective_background=perspective_background,
         n_jobs=n_jobs,
@@ -1741,6 +1742,7 @@ def _segment_tracks(
     init,
     selection,
     merge_split,
+    misfit_moves,
     subspace_dim,
     smoothing,
     n_neighbors,
@@ -1750,7 +1752,6 @@ def _segment_tracks(
     random_state,
     return_info,
     n_jobs=None,
-    misfit_moves=True,
     extra_candidates=(),
     candidates_only=False,
     candidates=None,
@@ -1796,6 +1797,7 @@ def _segment_tracks(
                 init="all",
                 selection=selection,
                 merge_split=False,
+                misfit_moves=misfit_moves,
                 return_info=False,
                 **{**settings, "n_jobs": 1},
             ),

@@ -5,7 +5,7 @@
 import numpy as np
 import pytest
 
-from sklearn_gpca import segment_motions
+from sklearn_gpca import _segment, segment_motions
 from sklearn_gpca._misfit_moves import (
     MIN_MISFIT_FRAMES,
     background_misfits,
@@ -18,7 +18,7 @@ from sklearn_gpca.metrics import misclassification_rate
 
 def test_misfit_starts_free_each_label_once():
     labels = np.array([0, 0, 0, 0, 1, 1, 2, 2])
-    starts = dict(misfit_starts(labels, 3, np.array([0, 1])))
+    starts = dict(misfit_starts(labels, 3, 0, np.array([0, 1])))
     assert len(starts) == 3
     expected = {
         # label 1 given to the background, the misfits to 1
@@ -32,9 +32,9 @@ def test_misfit_starts_free_each_label_once():
         np.testing.assert_array_equal(starts[name], start)
 
 
-def test_misfit_starts_name_the_largest_motion_whatever_its_label():
+def test_misfit_starts_keep_the_label_of_the_largest_motion_given():
     labels = np.array([2, 2, 2, 2, 0, 1])
-    starts = misfit_starts(labels, 3, np.array([3]))
+    starts = misfit_starts(labels, 3, 2, np.array([3]))
     assert all(name.startswith("misfits of 2 ") for name, _ in starts)
     for _, start in starts:
         assert start[3] != 2
@@ -121,3 +121,21 @@ def test_background_misfits_none_when_no_track_carries_a_residual():
         X[i, 2 * frame : 2 * frame + 4] = rng.normal(size=4)
     X0, mask = observed_entries(X)
     assert background_misfits(X0, mask, np.arange(30), 1.0).size == 0
+
+
+def test_misfit_moves_false_reaches_the_subsamples_of_dense_tracks(monkeypatch):
+    # tracks count as dense above 60 seen per frame, so that each of the
+    # subsamples is segmented on its own: misfit_moves=False must reach them
+    monkeypatch.setattr(_segment, "MAX_TRACKS_PER_FRAME", 40)
+
+    def never(*args, **kwargs):
+        raise AssertionError("misfit moves tried with misfit_moves=False")
+
+    monkeypatch.setattr(_segment, "_add_misfit_moves", never)
+    X, y = make_tracks(
+        scene="handheld", n_motions=4, n_tracks=300, n_frames=20, random_state=0
+    )[:2]
+    X = X[y >= 0]
+    assert _segment.draws_subsamples("all", ~np.isnan(X))
+    labels = segment_motions(X, 4, random_state=0, misfit_moves=False)
+    assert labels.shape == (X.shape[0],)
