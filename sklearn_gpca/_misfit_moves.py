@@ -67,19 +67,22 @@ def background_misfits(X0, mask, members, noise):
     members = np.asarray(members, dtype=np.intp)
     if members.size < MIN_PROJECTIVE_TRACKS:
         return np.empty(0, dtype=np.intp)
-    inliers = members
+    # only the group's tracks are scored: rows of X0 restricted to them
+    X0, mask = X0[members], mask[members]
+    group = np.arange(members.size)
+    inliers = group
     for _ in range(TRIM_ROUNDS):
-        rho = _perspective_per_dof(X0, mask, inliers, None, noise)[members] / noise
+        rho = _perspective_per_dof(X0, mask, inliers, None, noise) / noise
         finite = np.isfinite(rho)
         if not finite.any():
             # no member is seen in enough frames to carry a residual
             return np.empty(0, dtype=np.intp)
         cut = min(MISFIT_LEVEL, float(np.quantile(rho[finite], TRIM_SHARE)))
-        kept = members[finite & (rho <= cut)]
+        kept = group[finite & (rho <= cut)]
         if kept.size < MIN_PROJECTIVE_TRACKS or np.array_equal(kept, inliers):
             break
         inliers = kept
-    frames_seen = np.count_nonzero(mask[members, ::2], axis=1)
+    frames_seen = np.count_nonzero(mask[:, ::2], axis=1)
     return members[
         np.isfinite(rho) & (rho > MISFIT_LEVEL) & (frames_seen >= MIN_MISFIT_FRAMES)
     ]
