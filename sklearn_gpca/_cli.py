@@ -212,6 +212,7 @@ def _estimator(args, shape):
         return MotionSegmentation(
             args.n_motions,
             outlier_threshold=args.outlier_threshold,
+            n_init=1 if args.n_init is None else args.n_init,
             random_state=args.seed,
             n_jobs=args.jobs,
         )
@@ -222,6 +223,8 @@ def _check_method_options(args):
     """Refuse options that the chosen ``--method`` does not use."""
     if args.jobs is not None and args.method != "tracks":
         raise UsageError("--jobs needs --method tracks")
+    if args.n_init is not None and args.method != "tracks":
+        raise UsageError("--n-init needs --method tracks")
     if args.method == "pipeline":
         if args.outlier_threshold is not None:
             raise UsageError("--outlier-threshold needs --method tracks")
@@ -521,6 +524,15 @@ def build_parser(prog=None):
         metavar="P",
         help="with --method tracks: label -1 the tracks that fit no motion, at "
         "false-alarm probability P per track (e.g. 0.001)",
+    )
+    segment.add_argument(
+        "--n-init",
+        type=_positive_int,
+        default=None,
+        metavar="K",
+        help="with --method tracks: run the segmentation with K random states "
+        "and keep the run its consistency rule judges best (K times the time; "
+        "default 1)",
     )
     segment.add_argument(
         "--jobs",

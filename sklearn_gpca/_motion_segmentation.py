@@ -87,6 +87,13 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         tracker output) seen by a perspective camera, and choose among both
         sets (see :func:`~sklearn_gpca.segment_motions`).
 
+    n_init : int, default=1
+        Runs of the segmentation with different random states (the first
+        ``random_state`` itself); the run the consistency rule judges best is
+        kept, as :class:`~sklearn.cluster.KMeans` keeps its run of least
+        inertia (see :func:`~sklearn_gpca.segment_motions`). ``n_init`` times
+        the time.
+
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
 
@@ -175,6 +182,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         "outlier_threshold": [Interval(Real, 0, 1, closed="neither"), None],
         "screen_outliers": ["boolean", StrOptions({"kept"})],
         "perspective_background": ["boolean"],
+        "n_init": [Count(1, None, closed="left")],
         "random_state": ["random_state"],
         "n_jobs": [Integral, None],
     }
@@ -195,6 +203,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         outlier_threshold=None,
         screen_outliers=True,
         perspective_background=True,
+        n_init=1,
         random_state=None,
         n_jobs=None,
     ):
@@ -211,6 +220,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         self.outlier_threshold = outlier_threshold
         self.screen_outliers = screen_outliers
         self.perspective_background = perspective_background
+        self.n_init = n_init
         self.random_state = random_state
         self.n_jobs = n_jobs
 
@@ -259,6 +269,7 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
             outlier_threshold=self.outlier_threshold,
             screen_outliers=self.screen_outliers,
             perspective_background=self.perspective_background,
+            n_init=self.n_init,
             random_state=self.random_state,
             return_info=True,
             n_jobs=self.n_jobs,

@@ -126,6 +126,7 @@ from sklearn_gpca._refine_observed import (
 )
 from sklearn_gpca._reseed_motions import reseed_empty_motions
 from sklearn_gpca._resegment import resegmented_starts
+from sklearn_gpca._restarts import best_of_runs
 from sklearn_gpca._segment_selection import (
     ambiguous_fraction,
     coding_length,
@@ -792,6 +793,7 @@ def _merge_split(
         "outlier_threshold": [Interval(Real, 0, 1, closed="neither"), None],
         "screen_outliers": ["boolean", StrOptions({"kept"})],
         "perspective_background": ["boolean"],
+        "n_init": [Count(1, None, closed="left")],
         "random_state": ["random_state"],
         "return_info": ["boolean"],
         "n_jobs": [Integral, None],
@@ -814,6 +816,7 @@ def segment_motions(
     outlier_threshold=None,
     screen_outliers=True,
     perspective_background=True,
+    n_init=1,
     random_state=None,
     return_info=False,
     n_jobs=None,
@@ -1105,6 +1108,16 @@ def segment_motions(
         motion, and the refinement of every start that agrees with them
         starts from that fit.
         False: the subspace candidates only.
+    n_init : int, default=1
+        Runs of the whole segmentation, each with its own random state: the
+        first with ``random_state`` itself (``n_init=1`` is the plain call),
+        the others with seeds drawn from it. The labels kept are those of the
+        run that the consistency rule judges best, on the tracks no run calls
+        an outlier (:mod:`sklearn_gpca._restarts`), as
+        :class:`~sklearn.cluster.KMeans` keeps its run of least inertia. The
+        outcome on tracker output depends on the random state more than on
+        anything a user controls; ``n_init`` times the time buys a result
+        that depends on it less (``benchmarks/results/restarts.md``).
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
     n_jobs : int or None, default=None
@@ -1156,7 +1169,10 @@ def segment_motions(
         describe the tracks that pass the local test, and ``outlier_pvalues``
         and ``outliers`` (mask of the tracks set aside: with
         ``outlier_threshold``, those labelled ``-1``, the set-aside tracks a
-        motion explains cleared) are added.
+        motion explains cleared) are added. With ``n_init`` above 1 it is the
+        kept run's, with ``n_init``, ``run`` (the kept run's index),
+        ``run_labels`` (every run's labels) and ``run_scores`` (each run's
+        inconsistency and robust fit on the tracks no run calls an outlier).
 
     Warns
     -----
@@ -1210,28 +1226,42 @@ def segment_motions(
         per_cluster=per_cluster,
         max_iter=max_iter,
         perspective_background=perspective_background,
-        random_state=random_state,
         return_info=return_info,
         n_jobs=n_jobs,
     )
-    if outlier_threshold is not None or (screen_outliers and n_motions > 1):
-        # outliers set aside before the candidates (sklearn_gpca._outliers)
-        result = screened_segmentation(
-            _segment_tracks,
-            X,
-            n_motions,
-            outlier_threshold=(
-                SCREEN_THRESHOLD if outlier_threshold is None else outlier_threshold
-            ),
-            assign=outlier_threshold is None,
-            # dense tracks' subsamples differ already: drawn again from
-            # every track they would double the time
-            pooled=screen_outliers != "kept"
-            and not draws_subsamples(init, ~np.isnan(X)),
-            **kwargs,
-        )
-    else:
-        result = _segment_tracks(X, n_motions, **kwargs)
+
+    def run(state):
+        if outlier_threshold is not None or (screen_outliers and n_motions > 1):
+            # outliers set aside before the candidates (sklearn_gpca._outliers)
+            return screened_segmentation(
+                _segment_tracks,
+                X,
+                n_motions,
+                outlier_threshold=(
+                    SCREEN_THRESHOLD if outlier_threshold is None else outlier_threshold
+                ),
+                assign=outlier_threshold is None,
+                # dense tracks' subsamples differ already: drawn again from
+                # every track they would double the time
+                pooled=screen_outliers != "kept"
+                and not draws_subsamples(init, ~np.isnan(X)),
+                random_state=state,
+                **kwargs,
+            )
+        return _segment_tracks(X, n_motions, random_state=state, **kwargs)
+
+    # n_init runs, the best-judged kept (sklearn_gpca._restarts)
+    result = best_of_runs(
+        run,
+        X,
+        n_motions,
+        n_init,
+        random_state,
+        subspace_dim=subspace_dim,
+        perspective_background=perspective_background,
+        n_neighbors=n_neighbors,
+        n_jobs=n_jobs,
+    )
     if return_info:
         result[1].scale /= unit
     return result

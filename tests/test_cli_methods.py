@@ -38,6 +38,11 @@ def tracks_file(tmp_path_factory):
         ),
         ("perspective", [], PerspectiveClustering(2, random_state=3)),
         ("tracks", ["--jobs", "2"], MotionSegmentation(2, random_state=3)),
+        (
+            "tracks",
+            ["--n-init", "2"],
+            MotionSegmentation(2, n_init=2, random_state=3),
+        ),
     ],
 )
 def test_method_writes_the_labels_of_its_estimator(
@@ -71,6 +76,11 @@ def test_method_writes_the_labels_of_its_estimator(
         ),
         (["--jobs", "2"], "--jobs needs --method tracks"),
         (["--method", "perspective", "--jobs", "2"], "--jobs needs --method tracks"),
+        (["--n-init", "2"], "--n-init needs --method tracks"),
+        (
+            ["--method", "perspective", "--n-init", "2"],
+            "--n-init needs --method tracks",
+        ),
     ],
 )
 def test_options_the_method_does_not_use_are_refused(
@@ -116,3 +126,19 @@ def test_jobs_reach_the_estimator():
     args = build_parser().parse_args([*argv, "--jobs", "-1"])
     assert _estimator(args, (150, 24)).n_jobs == -1
     assert _estimator(build_parser().parse_args(argv), (150, 24)).n_jobs is None
+
+
+def test_n_init_reaches_the_estimator():
+    argv = ["segment", "x.npz", "--n-motions", "2", "--method", "tracks"]
+    args = build_parser().parse_args([*argv, "--n-init", "3"])
+    assert _estimator(args, (150, 24)).n_init == 3
+    assert _estimator(build_parser().parse_args(argv), (150, 24)).n_init == 1
+
+
+@pytest.mark.parametrize("value", ["0", "-2", "two"])
+def test_bad_n_init_is_a_usage_error(capsys, value):
+    argv = ["segment", "x.npz", "--n-motions", "2", "--method", "tracks"]
+    with pytest.raises(SystemExit) as exc:
+        main([*argv, "--n-init", value])
+    assert exc.value.code == 2
+    assert "--n-init" in capsys.readouterr().err
