@@ -13,7 +13,7 @@ kept candidate on most failed draws. ``n_init`` runs, as
 ``n_init`` random states, the first the caller's own (so ``n_init=1`` is the
 plain call), and the rule keeps the run whose labels its models explain
 best, judged on the tracks that no run calls an outlier, as the candidates
-of one run are (:func:`sklearn_gpca._segment._consistency_choice`).
+of one run are (:func:`sklearn_gpca._segment.consistency_pick`).
 """
 
 # SPDX-License-Identifier: BSD-3-Clause
@@ -63,13 +63,7 @@ def best_of_runs(
         labels) and ``run_scores`` (each run's inconsistency and robust fit,
         one row per run).
     """
-    from sklearn_gpca._segment import (
-        _all_motions_modelled,
-        _consistency_choice,
-        _consistency_scores,
-        _scaled_tracks,
-        track_graph,
-    )
+    from sklearn_gpca._segment import _scaled_tracks, consistency_pick, track_graph
 
     results = [run(random_state)]
     if n_init == 1:
@@ -86,19 +80,17 @@ def best_of_runs(
     if np.count_nonzero(common) <= n_motions:
         # nothing left to judge them on: the first run, as with n_init=1
         return results[0]
-    scores = _consistency_scores(
+    kept, scores, _, _ = consistency_pick(
         X0,
         mask,
         labels,
         [None] * n_init,
         noise,
-        common=common,
+        n_motions,
         n_jobs=n_jobs,
         subspace_dim=subspace_dim,
         perspective_background=perspective_background,
     )
-    modelled = _all_motions_modelled(labels, common, n_motions, subspace_dim)
-    kept = _consistency_choice(scores, int(np.count_nonzero(common)), modelled)
     result = results[kept]
     if isinstance(result, tuple):
         info = result[1]

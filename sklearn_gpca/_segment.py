@@ -637,6 +637,33 @@ def _consistency_choice(scores, n_tracks, modelled=None):
     )
 
 
+def consistency_pick(X0, mask, segmentations, cameras, noise, n_motions, **kwargs):
+    """The segmentation the consistency rule keeps, judged on the tracks none
+    of them calls an outlier (``-1``).
+
+    ``kwargs`` go to :func:`_consistency_scores` (``judged``, ``n_jobs``,
+    ``subspace_dim``, ``perspective_background``). Returns the index kept,
+    the scores, each segmentation's per-track terms and whether it models
+    every motion (:func:`_all_motions_modelled`).
+    """
+    common = np.logical_and.reduce([labels >= 0 for labels in segmentations])
+    scores, tracks = _consistency_scores(
+        X0,
+        mask,
+        segmentations,
+        cameras,
+        noise,
+        common=common,
+        return_tracks=True,
+        **kwargs,
+    )
+    modelled = _all_motions_modelled(
+        segmentations, common, n_motions, kwargs["subspace_dim"]
+    )
+    chosen = _consistency_choice(scores, int(np.count_nonzero(common)), modelled)
+    return chosen, scores, tracks, modelled
+
+
 def _reverts_to_kept(modelled, kept, chosen, significantly_better):
     """Whether the rule goes back from its choice ``chosen`` to the candidate
     ``kept`` before it, because ``chosen`` is not significantly better
@@ -729,21 +756,17 @@ def _merge_split(
                 tolerance=AMBIGUITY_TOLERANCE,
             )
         # judged, as the candidates are, on the tracks none calls an outlier
-        common = np.logical_and.reduce([s >= 0 for s in segmentations])
-        scores, tracks = _consistency_scores(
+        chosen, _, tracks, modelled = consistency_pick(
             X0,
             mask,
             segmentations,
             [cameras.get(s.tobytes()) for s in segmentations],
             noise,
-            common=common,
+            n_motions,
             judged=judged,
-            return_tracks=True,
             subspace_dim=subspace_dim,
             perspective_background=perspective_background,
         )
-        modelled = _all_motions_modelled(segmentations, common, n_motions, subspace_dim)
-        chosen = _consistency_choice(scores, int(np.count_nonzero(common)), modelled)
         if chosen and _reverts_to_kept(
             modelled,
             0,
