@@ -29,13 +29,19 @@ import warnings
 
 import numpy as np
 from _tables import command_line, write_check_page
-from check_motion_count import SCENES
+from check_motion_count import SCENES as MOTION_COUNT_SCENES
 from joblib import Parallel, delayed
 from threadpoolctl import threadpool_limits
 
 from sklearn_gpca import segment_motions
 from sklearn_gpca.datasets import make_tracks
 from sklearn_gpca.metrics import misclassification_rate, oracle_labels
+
+#: The scenes of ``check_motion_count.py`` and the lab scene of
+#: ``bench_outliers.py`` (two rigid objects on a table, a static camera).
+SCENES = MOTION_COUNT_SCENES | {
+    "lab, 30 frames": {"scene": "lab", "n_frames": 30, "missing": 0.4},
+}
 
 
 def _row(scene, n_motions, seed, n_init, plain_time):
@@ -70,7 +76,9 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=list(range(700, 708)))
     parser.add_argument("--motions", type=int, nargs="+", default=[3])
-    parser.add_argument("--scenes", nargs="+", default=list(SCENES), choices=SCENES)
+    parser.add_argument(
+        "--scenes", nargs="+", default=list(MOTION_COUNT_SCENES), choices=SCENES
+    )
     parser.add_argument("--n-init", type=int, default=4)
     parser.add_argument("--plain-time", action="store_true")
     parser.add_argument("--jobs", type=int, default=1)
