@@ -63,7 +63,7 @@ def best_of_runs(
         labels) and ``run_scores`` (each run's inconsistency and robust fit,
         one row per run).
     """
-    from sklearn_gpca._segment import _scaled_tracks, consistency_pick, track_graph
+    from sklearn_gpca._segment import _scaled_tracks, consistency_pick, track_noise
 
     results = [run(random_state)]
     if n_init == 1:
@@ -73,7 +73,7 @@ def best_of_runs(
     results += [run(int(seed)) for seed in seeds[1:]]
     labels = [result[0] if isinstance(result, tuple) else result for result in results]
     X0, mask, _ = _scaled_tracks(X)
-    noise = track_graph(
+    noise = track_noise(
         X0, mask, n_neighbors, random_state=np.random.RandomState(seeds[0])
     )[1]
     common = np.logical_and.reduce([found >= 0 for found in labels])

@@ -572,6 +572,14 @@ def subsample_candidates(X, X0, mask, n_motions, segment, *, random_state, n_job
     return map_jobs(segmented, subsamples, n_jobs)
 
 
+def track_noise(X0, mask, n_neighbors, *, random_state):
+    """The motion graph's neighbours and the noise variance per coordinate
+    they measure (:func:`track_graph`'s first two)."""
+    n_search = min(max(GRAPH_NEIGHBORS, n_neighbors), X0.shape[0] - 1)
+    neighbors = track_neighbors(X0, mask, n_search)
+    return neighbors, local_noise_level(X0, mask, neighbors, random_state=random_state)
+
+
 def track_graph(X0, mask, n_neighbors, *, random_state):
     """Neighbours, noise level, motion affinity and smoothing weights.
 
@@ -587,11 +595,9 @@ def track_graph(X0, mask, n_neighbors, *, random_state):
         Weight of each of the first ``n_neighbors`` neighbours in the
         smoothing term.
     """
-    n_search = min(max(GRAPH_NEIGHBORS, n_neighbors), X0.shape[0] - 1)
-    neighbors = track_neighbors(X0, mask, n_search)
-    noise = local_noise_level(X0, mask, neighbors, random_state=random_state)
+    neighbors, noise = track_noise(X0, mask, n_neighbors, random_state=random_state)
     affinity = motion_affinity(X0, mask, neighbors)
-    n_local = min(n_neighbors, n_search)
+    n_local = min(n_neighbors, neighbors.shape[1])
     weights = edge_weights(affinity, neighbors[:, :n_local])
     return neighbors, noise, affinity, weights
 
@@ -1966,13 +1972,18 @@ def _segment_tracks(
         )
 
     lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
-    if (
+    # the stages below search from the kept candidate of the routes drawn on
+    # these tracks (not from a dense scene's subsamples), judged by the rule
+    searching = (
         isinstance(init, str)
+        and selection == "consistency"
+        and not any(name.startswith("subsample") for name in names)
+    )
+    if (
+        searching
         and init == "all"
         and n_motions > 1
-        and selection == "consistency"
         and consistency[chosen, 0] > PEEL_INCONSISTENCY
-        and not any(name.startswith("subsample") for name in names)
     ):
         # the kept candidate leaves many tracks nearer another motion's model:
         # the starts that peel the dominant motion off first join (they are
@@ -1994,13 +2005,7 @@ def _segment_tracks(
         )
         if len(refined) > first:
             lengths, ambiguity, consistency, fitted, modelled, chosen = judge()
-    if (
-        isinstance(init, str)
-        and init in ("all", "subsample")
-        and n_motions > 2
-        and selection == "consistency"
-        and not any(name.startswith("subsample") for name in names)
-    ):
+    if searching and init in ("all", "subsample") and n_motions > 2:
         # the kept candidate's background, the other tracks segmented on
         # their own motion graph (sklearn_gpca._resegment)
         first, kept = len(refined), chosen
@@ -2020,12 +2025,10 @@ def _segment_tracks(
             chosen = kept
     if (
         misfit_moves
-        and isinstance(init, str)
+        and searching
         and init in ("all", "subsample")
         and n_motions >= MIN_MISFIT_MOVE_MOTIONS
-        and selection == "consistency"
         and perspective_background
-        and not any(name.startswith("subsample") for name in names)
     ):
         # the tracks the kept background's camera cannot explain, given a
         # label freed by a merge (sklearn_gpca._misfit_moves), while a move
