@@ -12,8 +12,9 @@ smallest), the kept run's error, the best run's in hindsight (what a perfect
 judge would keep), the oracle (:func:`sklearn_gpca.metrics.oracle_labels`,
 each track to the nearest of the true motions' 4-D subspaces on its observed
 entries) and the wall seconds of the ``n_init=K`` call (one BLAS thread per
-job). With ``--plain-time`` the plain call (``n_init=1``) is timed too, just
-before, in the same process, and the ratio of the two times is given.
+job with ``--jobs`` above 1; the machine's default threads with one job). With
+``--plain-time`` the plain call (``n_init=1``) is timed too, just before, in
+the same process, and the ratio of the two times is given.
 
 Usage::
 
@@ -24,6 +25,7 @@ Usage::
 # SPDX-License-Identifier: BSD-3-Clause
 
 import argparse
+import contextlib
 import time
 import warnings
 
@@ -44,10 +46,11 @@ SCENES = MOTION_COUNT_SCENES | {
 }
 
 
-def _row(scene, n_motions, seed, n_init, plain_time):
+def _row(scene, n_motions, seed, n_init, plain_time, parallel):
     X, y = make_tracks(n_motions=n_motions, random_state=seed, **SCENES[scene])[:2]
     X, y = X[y >= 0], y[y >= 0]
-    with threadpool_limits(1), warnings.catch_warnings():
+    threads = threadpool_limits(1) if parallel else contextlib.nullcontext()
+    with threads, warnings.catch_warnings():
         warnings.simplefilter("ignore")
         plain = None
         if plain_time:
@@ -85,7 +88,7 @@ def main(argv=None):
     parser.add_argument("--out", default=None, help="also write the page here")
     args = parser.parse_args(argv)
     jobs = [
-        (scene, n, seed, args.n_init, args.plain_time)
+        (scene, n, seed, args.n_init, args.plain_time, args.jobs > 1)
         for scene in args.scenes
         for n in args.motions
         for seed in args.seeds

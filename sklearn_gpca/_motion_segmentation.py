@@ -91,8 +91,8 @@ class MotionSegmentation(ClusterMixin, BaseEstimator):
         Runs of the segmentation with different random states (the first
         ``random_state`` itself); the run the consistency rule judges best is
         kept, as :class:`~sklearn.cluster.KMeans` keeps its run of least
-        inertia (see :func:`~sklearn_gpca.segment_motions`). ``n_init`` times
-        the time.
+        inertia (see :func:`~sklearn_gpca.segment_motions`). A little more
+        than ``n_init`` times the time (the runs are judged too).
 
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.

@@ -1147,7 +1147,8 @@ def segment_motions(
         outcome on tracker output can depend on the random state a lot (on
         one driving draw one state errs 3 %, another 22 %); ``n_init=4``
         took draws never used before from 11.61 to 9.16 % (oracle 4.80 %) at
-        about four times the time (``benchmarks/results/restarts.md``).
+        four to five times the time (``benchmarks/results/restarts.md``,
+        ``restarts_threads.md``).
     random_state : int, RandomState instance or None, default=None
         Seeds the spectral clustering, k-means and the projections.
     n_jobs : int or None, default=None
