@@ -19,6 +19,7 @@ benchmark::
 import csv
 import datetime
 import os
+import shlex
 import sys
 from pathlib import Path
 
@@ -43,10 +44,11 @@ def command_stamp(command):
 def command_line(script, args, options):
     """The command that reruns ``benchmarks/<script>`` with the parsed
     ``args``: each of ``options`` (dest names) as ``--option value...``,
-    lists joined by spaces, floats as ``:g``; ``--out`` last."""
+    lists joined by spaces, floats as ``:g``, quoted for the shell where
+    needed (a scene name with a space); ``--out`` last."""
 
     def text(value):
-        return f"{value:g}" if isinstance(value, float) else str(value)
+        return f"{value:g}" if isinstance(value, float) else shlex.quote(str(value))
 
     parts = [f"python benchmarks/{script}"]
     for option in (*options, "out"):

@@ -97,7 +97,9 @@ def main(argv=None):
     if args.out:
         write_check_page(
             args.out,
-            command_line("check_misfit_moves.py", args, ["seeds", "motions", "jobs"]),
+            command_line(
+                "check_misfit_moves.py", args, ["seeds", "motions", "scenes", "jobs"]
+            ),
             __doc__,
             "segment_motions: the misfit moves",
             [("Mean over the seeds", means, summary), ("Per draw", header, rows)],

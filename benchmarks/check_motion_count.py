@@ -98,7 +98,9 @@ def main(argv=None):
     if args.out:
         write_check_page(
             args.out,
-            command_line("check_motion_count.py", args, ["seeds", "motions", "jobs"]),
+            command_line(
+                "check_motion_count.py", args, ["seeds", "motions", "scenes", "jobs"]
+            ),
             __doc__,
             "segment_motions with 2 to 5 motions",
             [("Mean over the seeds", means, summary), ("Per draw", header, rows)],

@@ -12,7 +12,9 @@ smallest), the kept run's error, the best run's in hindsight (what a perfect
 judge would keep), the oracle (:func:`sklearn_gpca.metrics.oracle_labels`,
 each track to the nearest of the true motions' 4-D subspaces on its observed
 entries) and the wall seconds of the ``n_init=K`` call (one BLAS thread per
-job with ``--jobs`` above 1; the machine's default threads with one job). With
+job with ``--jobs`` above 1; the machine's default threads with one job), of
+each of its runs and of the judgement that keeps one (``info.run_seconds``,
+``info.judge_seconds``). With
 ``--plain-time`` the plain call (``n_init=1``) is timed too, just before, in
 the same process, and the ratio of the two times is given.
 
@@ -65,7 +67,8 @@ def _row(scene, n_motions, seed, n_init, plain_time, parallel):
         oracle = misclassification_rate(y, oracle_labels(X, y))
     runs = [misclassification_rate(y, found) for found in info.run_labels]
     kept = misclassification_rate(y, labels)
-    return scene, n_motions, seed, runs, kept, oracle, (plain, seconds)
+    times = (plain, seconds, info.run_seconds, info.judge_seconds)
+    return scene, n_motions, seed, runs, kept, oracle, times
 
 
 def _cells(runs, kept, oracle):
@@ -97,23 +100,30 @@ def main(argv=None):
     errors = ["first run (random_state=0) %", "mean of the runs %", "spread %"]
     errors += [f"kept (n_init={args.n_init}) %", "best run %", "oracle %"]
     header = ["scene", "motions", "seed", *errors, f"s (n_init={args.n_init})"]
+    header += ["s of each run", "s judging"]
     if args.plain_time:
         header += ["s (n_init=1)", "time ratio"]
     rows, by_setting, times = [], {}, []
-    for scene, n, seed, runs, kept, oracle, (plain, seconds) in results:
+    for scene, n, seed, runs, kept, oracle, timing in results:
+        plain, seconds, run_seconds, judge_seconds = timing
         by_setting.setdefault((scene, n), []).append((runs, kept, oracle))
         rows.append([scene, str(n), str(seed), *_cells(runs, kept, oracle)])
         rows[-1].append(f"{seconds:.1f}")
+        each = " / ".join(f"{t:.1f}" for t in run_seconds)
+        rows[-1] += [each, f"{judge_seconds:.1f}"]
         if args.plain_time:
             rows[-1] += [f"{plain:.1f}", f"{seconds / plain:.2f}"]
-            times.append((plain, seconds))
+        times.append((plain or np.nan, seconds, np.sum(run_seconds), judge_seconds))
         print(" | ".join(rows[-1]), flush=True)
     sections = []
-    if times:
-        plain, seconds = np.sum(times, axis=0)
-        total = [f"{plain:.1f}", f"{seconds:.1f}", f"{seconds / plain:.2f}"]
-        print("total s (n_init=1), s, ratio:", " | ".join(total))
-        sections.append(("Time, all draws", ["s (n_init=1)", "s", "ratio"], [total]))
+    plain, seconds, run_seconds, judge_seconds = np.sum(times, axis=0)
+    total = [f"{seconds:.1f}", f"{run_seconds:.1f}", f"{judge_seconds:.1f}"]
+    columns = [f"s (n_init={args.n_init})", "s of the runs", "s judging"]
+    if args.plain_time:
+        total += [f"{plain:.1f}", f"{seconds / plain:.2f}"]
+        columns += ["s (n_init=1)", "ratio"]
+    print(", ".join(columns) + ":", " | ".join(total))
+    sections.append(("Time, all draws", columns, [total]))
     means = ["scene", "motions", "draws", *errors, "draws kept better / worse"]
     summary = []
     groups = [((scene, str(n)), draws) for (scene, n), draws in by_setting.items()]
@@ -133,7 +143,7 @@ def main(argv=None):
             command_line(
                 "check_restarts.py",
                 args,
-                ["seeds", "motions", "n_init", "jobs"],
+                ["seeds", "motions", "scenes", "n_init", "jobs"],
             )
             + (" --plain-time" if args.plain_time else ""),
             __doc__,

@@ -18,6 +18,8 @@ of one run are (:func:`sklearn_gpca._segment.consistency_pick`).
 
 # SPDX-License-Identifier: BSD-3-Clause
 
+import time
+
 import numpy as np
 from sklearn.utils import check_random_state
 
@@ -60,17 +62,27 @@ def best_of_runs(
     result : ndarray or tuple
         ``run``'s result for the kept run; a Bunch ``info`` gets ``n_init``,
         ``run`` (the index of the kept run), ``run_labels`` (every run's
-        labels) and ``run_scores`` (each run's inconsistency and robust fit,
-        one row per run).
+        labels), ``run_scores`` (each run's inconsistency and robust fit,
+        one row per run), ``run_seconds`` (each run's wall time) and
+        ``judge_seconds`` (the judgement's).
     """
     from sklearn_gpca._segment import _scaled_tracks, consistency_pick, track_noise
 
-    results = [run(random_state)]
+    seconds = []
+
+    def timed(state):
+        clock = time.perf_counter()
+        result = run(state)
+        seconds.append(time.perf_counter() - clock)
+        return result
+
+    results = [timed(random_state)]
     if n_init == 1:
         return results[0]
     rng = check_random_state(random_state)
     seeds = rng.randint(np.iinfo(np.int32).max, size=n_init)
-    results += [run(int(seed)) for seed in seeds[1:]]
+    results += [timed(int(seed)) for seed in seeds[1:]]
+    clock = time.perf_counter()
     labels = [result[0] if isinstance(result, tuple) else result for result in results]
     X0, mask, _ = _scaled_tracks(X)
     noise = track_noise(
@@ -95,5 +107,6 @@ def best_of_runs(
     if isinstance(result, tuple):
         info = result[1]
         info.n_init, info.run, info.run_scores = n_init, kept, scores
-        info.run_labels = labels
+        info.run_labels, info.run_seconds = labels, np.array(seconds)
+        info.judge_seconds = time.perf_counter() - clock
     return result

@@ -1202,8 +1202,9 @@ def segment_motions(
         ``outlier_threshold``, those labelled ``-1``, the set-aside tracks a
         motion explains cleared) are added. With ``n_init`` above 1 it is the
         kept run's, with ``n_init``, ``run`` (the kept run's index),
-        ``run_labels`` (every run's labels) and ``run_scores`` (each run's
-        inconsistency and robust fit on the tracks no run calls an outlier).
+        ``run_labels`` (every run's labels), ``run_scores`` (each run's
+        inconsistency and robust fit on the tracks no run calls an outlier),
+        ``run_seconds`` (each run's wall time) and ``judge_seconds``.
 
     Warns
     -----

@@ -49,6 +49,9 @@ def test_best_of_runs_keeps_the_run_the_rule_prefers(lab_draw, truth_at):
     np.testing.assert_array_equal(labels, y)
     assert info.run == truth_at and info.n_init == 3
     assert info.run_scores.shape == (3, 2)
+    # every run timed, and the judgement apart from them
+    assert info.run_seconds.shape == (3,) and np.all(info.run_seconds >= 0)
+    assert info.judge_seconds >= 0
     # the first run has the caller's random state, the others their own seeds
     assert states[0] == 0 and len(set(states)) == 3
 
