@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 from sklearn_gpca import segment_motions
+from sklearn_gpca._merge_split import significantly_better
 from sklearn_gpca._observed_subspaces import observed_entries
 from sklearn_gpca._resegment import resegmented_starts
-from sklearn_gpca._segment import GRAPH_NEIGHBORS
+from sklearn_gpca._segment import GRAPH_NEIGHBORS, MISFIT_COST, RESEGMENT_LEVEL
 from sklearn_gpca.datasets import make_motions, make_tracks
 from sklearn_gpca.metrics import misclassification_rate
 
@@ -135,13 +136,27 @@ def test_resegmented_candidates_do_not_depend_on_n_jobs():
     np.testing.assert_array_equal(one, two)
 
 
-def test_resegmentation_mends_two_cars_one_standard_error_better():
-    # make_tracks driving scene, seed 1: every candidate of the routes mixes
-    # the two cars (12.4 %); the re-segmented one (3.8 %) scores lower by
-    # 1.6 standard errors of the per-track differences: kept at
-    # RESEGMENT_LEVEL (z < -1), not at the textbook 5 % (z < -1.645)
-    X, y = make_tracks(scene="driving", random_state=1)[:2]
-    X, y = X[y >= 0], y[y >= 0]
-    labels, info = segment_motions(X, 3, random_state=0, return_info=True)
-    assert info.candidates[info.chosen].startswith("re-segmented")
-    assert misclassification_rate(y, labels) < 0.05
+def test_a_resegmented_candidate_one_standard_error_better_replaces_the_kept():
+    # RESEGMENT_LEVEL is the one-standard-error rule: a re-segmented
+    # candidate whose per-track scores are lower by 1.6 standard errors of
+    # their differences replaces the kept one, not at the textbook 5 %. (The
+    # end-to-end case it was measured on, make_tracks driving seed 1, where a
+    # re-segmented candidate 1.6 standard errors better mended two mixed
+    # cars, is not a test: on another machine rounding draws other
+    # candidates there; the lab draw above checks the stage end to end.)
+    n_tracks = 100
+    noise = np.tile([-1.0, 1.0], n_tracks // 2)
+    kept = np.column_stack([np.full(n_tracks, 2.0), np.zeros(n_tracks)])
+    resegmented = kept.copy()
+    resegmented[:, 0] += -0.16 + noise  # z = -0.16 n / (sqrt(n) * 1) = -1.6
+    assert significantly_better(
+        kept, resegmented, misfit_cost=MISFIT_COST, n_compared=1, level=RESEGMENT_LEVEL
+    )
+    assert not significantly_better(
+        kept, resegmented, misfit_cost=MISFIT_COST, n_compared=1, level=0.05
+    )
+    # nor when the scores are lower by less than one standard error
+    resegmented[:, 0] = kept[:, 0] - 0.08 + noise
+    assert not significantly_better(
+        kept, resegmented, misfit_cost=MISFIT_COST, n_compared=1, level=RESEGMENT_LEVEL
+    )
