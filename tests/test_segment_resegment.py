@@ -120,6 +120,28 @@ def test_resegmentation_mends_a_motion_the_routes_cut():
     assert misclassification_rate(y, labels) < 0.03
 
 
+def test_the_resegmented_candidate_is_tested_at_resegment_level(monkeypatch):
+    # the stage that keeps a re-segmented candidate asks Vuong's test at
+    # RESEGMENT_LEVEL (the level itself is tested below, on constructed scores)
+    import sklearn_gpca._segment as segment
+
+    levels = []
+    test = segment._significantly_better
+
+    def recorded(*args, level, **kwargs):
+        levels.append(level)
+        return test(*args, level=level, **kwargs)
+
+    monkeypatch.setattr(segment, "_significantly_better", recorded)
+    X, y = make_tracks(
+        scene="lab", n_motions=3, n_frames=30, missing=0.3, random_state=2
+    )[:2]
+    X = X[y >= 0]
+    info = segment_motions(X, 3, random_state=0, return_info=True)[1]
+    assert info.candidates[info.chosen].startswith("re-segmented")
+    assert levels == [RESEGMENT_LEVEL]
+
+
 def test_resegmented_candidates_do_not_depend_on_n_jobs():
     X, _ = make_motions(
         3, n_points=[150, 40, 40], n_frames=10, missing=0.2, random_state=0
